@@ -1,0 +1,17 @@
+// Reduction of a face-on-face (or face-on-plane) contact region to at most 4 points
+// that span it as widely as possible, so that the contact resists rocking.
+#pragma once
+
+#include <vector>
+
+#include "ratchet/contact/contact_point.hpp"
+
+namespace ratchet {
+
+// Picks up to 4 of `candidates` (all sharing one normal): the deepest point, the point
+// farthest from it in the plane, the point making the largest triangle with those
+// two, and the point adding the most area outside that triangle. Ties go to the lower
+// index, so the result depends only on the order of the candidates.
+void reduce_manifold(const std::vector<ContactPoint>& candidates, ContactManifold& out);
+
+}  // namespace ratchet

@@ -1,0 +1,50 @@
+// A rigid convex polyhedron in its body frame: centroid at the origin, axes along
+// the principal axes of inertia. Built from any point cloud by Qhull.
+#pragma once
+
+#include <array>
+#include <string>
+#include <vector>
+
+#include "ratchet/core/types.hpp"
+
+namespace ratchet {
+
+struct ConvexPolyhedron {
+  std::vector<Vec3> vertices;             // body frame, hull vertices only, in input order
+  std::vector<std::vector<int>> faces;    // vertex indices, counter-clockwise seen from outside;
+                                          // coplanar hull facets merged into one polygon
+  std::vector<Vec3> face_normals;         // outward unit normals
+  std::vector<double> face_offsets;       // face f is {x : face_normals[f] . x = face_offsets[f]}
+  std::vector<std::array<int, 2>> edges;  // unique, edges[e][0] < edges[e][1], sorted
+  std::vector<std::array<int, 2>> edge_faces;  // the two faces that share edge e; in face
+                                               // edge_faces[e][0] it runs edges[e][0] -> [1]
+  double volume = 0.0;                    // at scale 1
+  Vec3 principal_inertia = Vec3::Zero();  // per unit density at scale 1: I = diag(principal_inertia);
+                                          // ascending, except build_box (x, y, z order)
+  double bounding_radius = 0.0;           // max |vertex| (about the centroid)
+};
+
+// A hull and the frame it was built in: input point p maps to body frame as
+// rotation.transpose() * (p - centroid).
+struct PolyhedronBuild {
+  ConvexPolyhedron shape;
+  Vec3 centroid = Vec3::Zero();  // centroid of the solid in the input frame
+  Mat3 rotation = Mat3::Identity();  // columns: principal axes in the input frame (det +1)
+};
+
+// Builds the convex hull of `points` with Qhull and its exact mass properties
+// (volume, centroid, inertia by signed tetrahedra, Tonon 2004, J. Math. Stat. 1(1)).
+// Throws std::invalid_argument naming `what` if the points are fewer than 4,
+// non-finite or (nearly) coplanar (thickness <= 1e-9 of the cloud's extent).
+// Faces start at their smallest vertex index and are sorted; the rotation's first two
+// columns have their largest component positive, the third is their cross product.
+PolyhedronBuild build_convex_polyhedron(const std::vector<Vec3>& points,
+                                        const std::string& what = "polyhedron");
+
+// Closed-form helper: the axis-aligned box with the given half extents. Keeps the
+// input axes (rotation = identity, vertices exactly +-h), so principal_inertia is in
+// x, y, z order rather than ascending. Throws std::invalid_argument unless h > 0, finite.
+PolyhedronBuild build_box(const Vec3& half_extents);
+
+}  // namespace ratchet

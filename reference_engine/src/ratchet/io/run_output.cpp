@@ -1,0 +1,90 @@
+#include "ratchet/io/run_output.hpp"
+
+#include <cstdio>
+#include <filesystem>
+
+namespace ratchet {
+
+std::string format_double(double x) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.17g", x);
+  return buf;
+}
+
+RunOutput::RunOutput(const std::string& dir, const World& world) : dir_(dir) {
+  std::filesystem::create_directories(dir_);
+  std::filesystem::remove(dir_ + "/run.json");  // an old run.json would make this look complete
+  timeseries_ = std::make_unique<AtomicFile>(dir_ + "/timeseries.csv");
+  bodies_ = std::make_unique<AtomicFile>(dir_ + "/bodies.csv");
+  auto& ts = timeseries_->stream();
+  ts << "step,t,T,s_p,s_c,kinetic_energy,contacts,iterations,residual,wall_force_side,wall_force_bottom,"
+        "wall_force_total,bed_height,pressure";
+  for (const char* name : kPhaseNames) ts << ",time_" << name;
+  ts << "\n";
+  bodies_->stream() << "step,t,id,x,y,z,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz,scale\n";
+  write_timeseries_row(world);
+  write_bodies(world);
+}
+
+void RunOutput::write_timeseries_row(const World& world) {
+  const State& s = world.state();
+  const StepStats& st = world.stats();
+  auto& o = timeseries_->stream();
+  const double H = world.bed_height();
+  o << s.step << ',' << format_double(s.t) << ',' << format_double(s.T) << ',' << format_double(s.s_p) << ','
+    << format_double(s.s_c) << ',' << format_double(world.kinetic_energy()) << ',' << st.contacts << ','
+    << st.iterations << ',' << format_double(st.residual) << ',' << format_double(st.wall_force_side) << ','
+    << format_double(st.wall_force_bottom) << ',' << format_double(st.wall_force_total) << ',' << format_double(H) << ',' << format_double(world.pressure());
+  for (double t : world.timers().last_step) o << ',' << format_double(t);
+  o << '\n';
+}
+
+void RunOutput::write_bodies(const World& world) {
+  const State& s = world.state();
+  auto& o = bodies_->stream();
+  for (std::size_t i = 0; i < s.x.size(); ++i) {
+    const Quat& q = s.q[i];
+    o << s.step << ',' << format_double(s.t) << ',' << i;
+    for (double v : {s.x[i].x(), s.x[i].y(), s.x[i].z(), q.w(), q.x(), q.y(), q.z(), s.v[i].x(), s.v[i].y(),
+                     s.v[i].z(), s.w[i].x(), s.w[i].y(), s.w[i].z(), world.body_scale(static_cast<int>(i))})
+      o << ',' << format_double(v);
+    o << '\n';
+  }
+}
+
+void RunOutput::finish(const World& world, const nlohmann::json& summary) {
+  timeseries_->commit();
+  bodies_->commit();
+  nlohmann::json meta = run_metadata(world);
+  for (auto it = summary.begin(); it != summary.end(); ++it) meta[it.key()] = it.value();
+  write_file_atomic(dir_ + "/run.json", meta.dump(2) + "\n");
+}
+
+nlohmann::json run_metadata(const World& world) {
+  const SceneDef& sc = world.scene();
+  nlohmann::json j;
+  j["engine"] = {{"name", "ratchet"}, {"version", RATCHET_VERSION}, {"build_type", RATCHET_BUILD_TYPE}};
+  j["scene_file"] = sc.source;
+  j["scene_hash"] = sc.hash;
+  j["scene"] = sc.as_run;
+  j["effects"] = {{"gravity", sc.effects.gravity},
+                  {"friction", sc.effects.friction},
+                  {"rotation", sc.effects.rotation},
+                  {"particle_expansion", sc.effects.particle_expansion},
+                  {"container_expansion", sc.effects.container_expansion}};
+  nlohmann::json phases = nlohmann::json::array();
+  const auto& timers = world.timers();
+  const auto plan = world.plan();
+  for (std::size_t p = 0; p < plan.size(); ++p)
+    phases.push_back({{"name", plan[p].name}, {"active", plan[p].active}, {"reason", plan[p].reason},
+                      {"calls", timers.calls[p]}, {"seconds", timers.seconds[p]}});
+  j["phases"] = phases;
+  j["bodies"] = sc.bodies.size();
+  j["steps"] = world.state().step;
+  j["counters"] = {{"tangential_solves", world.stats().tangential_solves},
+                   {"solver_iterations", world.stats().total_iterations},
+                   {"unconverged_steps", world.stats().unconverged_steps}};
+  return j;
+}
+
+}  // namespace ratchet

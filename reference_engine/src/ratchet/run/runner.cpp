@@ -1,0 +1,67 @@
+#include "ratchet/run/runner.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <memory>
+
+#include "ratchet/io/run_output.hpp"
+
+namespace ratchet {
+
+namespace {
+
+std::string format_seconds(double s) {
+  char buf[32];
+  if (s >= 3600) std::snprintf(buf, sizeof buf, "%dh%02dm", static_cast<int>(s / 3600), static_cast<int>(s / 60) % 60);
+  else if (s >= 60) std::snprintf(buf, sizeof buf, "%dm%02ds", static_cast<int>(s / 60), static_cast<int>(s) % 60);
+  else std::snprintf(buf, sizeof buf, "%.0fs", s);
+  return buf;
+}
+
+}  // namespace
+
+RunResult run_world(World& world, const RunOptions& options, const std::function<void(const World&)>& each_step) {
+  const SceneDef& scene = world.scene();
+  std::unique_ptr<RunOutput> out;
+  if (!options.out_dir.empty()) out = std::make_unique<RunOutput>(options.out_dir, world);
+  const auto start = std::chrono::steady_clock::now();
+  auto last_print = start;
+  const std::int64_t total = scene.steps;
+  const int every_ts = scene.outputs.timeseries_every;
+  const int every_bodies = scene.outputs.bodies_every;
+  while (world.state().step < total) {
+    world.step();
+    const std::int64_t k = world.state().step;
+    const double ke = world.kinetic_energy();
+    if (!std::isfinite(ke))
+      throw RunError(scene.source + ": the state became non-finite at step " + std::to_string(k) +
+                     " (t = " + std::to_string(world.state().t) + "); the time step may be too large");
+    if (out) {
+      if (k % every_ts == 0 || k == total) out->write_timeseries_row(world);
+      if ((every_bodies > 0 && k % every_bodies == 0) || k == total) out->write_bodies(world);
+    }
+    if (each_step) each_step(world);
+    if (options.progress) {
+      const auto now = std::chrono::steady_clock::now();
+      if (std::chrono::duration<double>(now - last_print).count() > 0.5 || k == total) {
+        last_print = now;
+        const double el = std::chrono::duration<double>(now - start).count();
+        const double left = el / static_cast<double>(k) * static_cast<double>(total - k);
+        std::fprintf(stderr, "\r%s: step %lld/%lld (%.1f%%) t=%.4g T=%.4g contacts=%d iter=%d  %s left   ",
+                     scene.name.c_str(), static_cast<long long>(k), static_cast<long long>(total),
+                     100.0 * static_cast<double>(k) / static_cast<double>(total), world.state().t, world.state().T,
+                     world.stats().contacts, world.stats().iterations, format_seconds(left).c_str());
+        if (k == total) std::fprintf(stderr, "\n");
+        std::fflush(stderr);
+      }
+    }
+  }
+  RunResult r;
+  r.steps = world.state().step;
+  r.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (out) out->finish(world, {{"status", "completed"}, {"wall_seconds", r.wall_seconds}});
+  return r;
+}
+
+}  // namespace ratchet

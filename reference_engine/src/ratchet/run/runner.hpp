@@ -1,0 +1,32 @@
+// Runs a scene to its end, writing the run's files (io/run_output.hpp), with an
+// optional progress line. Used by `ratchet run` and by the tests.
+#pragma once
+
+#include <functional>
+#include <string>
+
+#include "ratchet/world/world.hpp"
+
+namespace ratchet {
+
+struct RunOptions {
+  std::string out_dir;        // empty: no files
+  bool progress = false;      // a progress line with the time left, on stderr
+};
+
+struct RunResult {
+  std::int64_t steps = 0;
+  double wall_seconds = 0.0;
+};
+
+// Thrown when the state stops being finite (divergence).
+struct RunError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+// Runs world until scene().steps steps are done. Calls `each_step` (if given) after
+// every step, e.g. for tests that watch the trajectory.
+RunResult run_world(World& world, const RunOptions& options,
+                    const std::function<void(const World&)>& each_step = {});
+
+}  // namespace ratchet

@@ -1,0 +1,483 @@
+#include "ratchet/scene/scene.hpp"
+
+#include <cmath>
+#include <fstream>
+#include <functional>
+#include <limits>
+#include <sstream>
+
+#include "ratchet/core/random.hpp"
+#include "ratchet/geometry/particle_generator.hpp"
+
+namespace ratchet {
+
+using nlohmann::json;
+
+namespace {
+
+// Reading context: every error names the file, the field (dotted path) and what was
+// expected, and shows what was found.
+struct Reader {
+  std::string source;
+
+  [[noreturn]] void fail(const std::string& field, const std::string& expected,
+                         const json* got = nullptr) const {
+    std::string msg = source + ": field '" + field + "': expected " + expected;
+    if (got != nullptr) {
+      std::string shown = got->dump();
+      if (shown.size() > 80) shown = shown.substr(0, 77) + "...";
+      msg += ", got " + shown;
+    }
+    throw SceneError(msg);
+  }
+
+  static std::string join(const std::string& path, const std::string& key) {
+    return path.empty() ? key : path + "." + key;
+  }
+
+  void object(const json& j, const std::string& path,
+              std::initializer_list<const char*> allowed) const {
+    if (!j.is_object()) fail(path.empty() ? "(top level)" : path, "an object", &j);
+    for (auto it = j.begin(); it != j.end(); ++it) {
+      bool known = false;
+      for (const char* a : allowed) known = known || it.key() == a;
+      if (!known) {
+        std::string list;
+        for (const char* a : allowed) list += (list.empty() ? "" : ", ") + std::string(a);
+        fail(join(path, it.key()), "no such field (known fields here: " + list + ")");
+      }
+    }
+  }
+
+  double number(const json& j, const std::string& path, const std::string& key, double def,
+                double lo, double hi, bool lo_open, bool hi_open, const std::string& expected) const {
+    if (!j.contains(key)) return def;
+    const json& v = j.at(key);
+    const std::string f = join(path, key);
+    if (!v.is_number()) fail(f, expected, &v);
+    const double x = v.get<double>();
+    const bool ok = std::isfinite(x) && (lo_open ? x > lo : x >= lo) && (hi_open ? x < hi : x <= hi);
+    if (!ok) fail(f, expected, &v);
+    return x;
+  }
+  double positive(const json& j, const std::string& path, const std::string& key, double def) const {
+    return number(j, path, key, def, 0.0, HUGE_VAL, true, false, "a finite positive number");
+  }
+  double non_negative(const json& j, const std::string& path, const std::string& key, double def) const {
+    return number(j, path, key, def, 0.0, HUGE_VAL, false, false, "a finite number >= 0");
+  }
+  double finite(const json& j, const std::string& path, const std::string& key, double def) const {
+    return number(j, path, key, def, -HUGE_VAL, HUGE_VAL, false, false, "a finite number");
+  }
+  long long integer(const json& j, const std::string& path, const std::string& key, long long def,
+                    long long lo, long long hi) const {
+    if (!j.contains(key)) return def;
+    const json& v = j.at(key);
+    const std::string expected = "an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]";
+    if (!v.is_number_integer()) fail(join(path, key), expected, &v);
+    const long long x = v.get<long long>();
+    if (x < lo || x > hi) fail(join(path, key), expected, &v);
+    return x;
+  }
+  bool boolean(const json& j, const std::string& path, const std::string& key, bool def) const {
+    if (!j.contains(key)) return def;
+    const json& v = j.at(key);
+    if (!v.is_boolean()) fail(join(path, key), "true or false", &v);
+    return v.get<bool>();
+  }
+  std::string string(const json& j, const std::string& path, const std::string& key,
+                     const std::string& def) const {
+    if (!j.contains(key)) return def;
+    const json& v = j.at(key);
+    if (!v.is_string()) fail(join(path, key), "a string", &v);
+    return v.get<std::string>();
+  }
+  Vec3 vec3(const json& v, const std::string& f) const {
+    if (!v.is_array() || v.size() != 3) fail(f, "an array of 3 finite numbers", &v);
+    Vec3 out;
+    for (int i = 0; i < 3; ++i) {
+      if (!v[static_cast<std::size_t>(i)].is_number()) fail(f, "an array of 3 finite numbers", &v);
+      out[i] = v[static_cast<std::size_t>(i)].get<double>();
+      if (!std::isfinite(out[i])) fail(f, "an array of 3 finite numbers", &v);
+    }
+    return out;
+  }
+  Vec3 vec3(const json& j, const std::string& path, const std::string& key, const Vec3& def) const {
+    return j.contains(key) ? vec3(j.at(key), join(path, key)) : def;
+  }
+  const json& required(const json& j, const std::string& path, const std::string& key,
+                       const std::string& expected) const {
+    if (!j.contains(key)) fail(join(path, key), expected + " (the field is required)");
+    return j.at(key);
+  }
+};
+
+void read_effects(const Reader& r, const json& j, Effects& e) {
+  r.object(j, "effects", {"gravity", "friction", "rotation", "particle_expansion", "container_expansion"});
+  e.gravity = r.boolean(j, "effects", "gravity", e.gravity);
+  e.friction = r.boolean(j, "effects", "friction", e.friction);
+  e.rotation = r.boolean(j, "effects", "rotation", e.rotation);
+  e.particle_expansion = r.boolean(j, "effects", "particle_expansion", e.particle_expansion);
+  e.container_expansion = r.boolean(j, "effects", "container_expansion", e.container_expansion);
+}
+
+void read_solver(const Reader& r, const json& j, SolverSettings& s) {
+  const std::string p = "solver";
+  r.object(j, p, {"tolerance", "max_iterations", "theta", "p_gap", "warm_start", "contact_margin", "threads"});
+  s.tolerance = r.positive(j, p, "tolerance", s.tolerance);
+  s.max_iterations = static_cast<int>(r.integer(j, p, "max_iterations", s.max_iterations, 1, 100000000));
+  s.theta = r.number(j, p, "theta", s.theta, 0.5, 1.0, false, false, "a number in [0.5, 1]");
+  s.p_gap = r.number(j, p, "p_gap", s.p_gap, 0.0, 1.0, true, false, "a number in (0, 1]");
+  s.warm_start = r.boolean(j, p, "warm_start", s.warm_start);
+  s.contact_margin = r.positive(j, p, "contact_margin", s.contact_margin);
+  s.threads = static_cast<int>(r.integer(j, p, "threads", s.threads, 0, 1024));
+}
+
+void read_materials(const Reader& r, const json& j, Materials& m) {
+  const std::string p = "materials";
+  r.object(j, p, {"friction", "wall_friction", "density"});
+  m.friction = r.non_negative(j, p, "friction", m.friction);
+  m.wall_friction = r.non_negative(j, p, "wall_friction", m.wall_friction);
+  m.density = r.positive(j, p, "density", m.density);
+}
+
+void read_thermal(const Reader& r, const json& j, ThermalProtocol& t) {
+  const std::string p = "thermal";
+  r.object(j, p, {"T0", "T1", "start_time", "heat_time", "hold_time", "cool_time", "cycles", "alpha_p", "alpha_c"});
+  t.enabled = true;
+  t.T0 = r.finite(j, p, "T0", t.T0);
+  t.T1 = r.finite(j, p, "T1", t.T1);
+  t.start_time = r.non_negative(j, p, "start_time", t.start_time);
+  t.heat_time = r.positive(j, p, "heat_time", t.heat_time > 0 ? t.heat_time : 1.0);
+  t.hold_time = r.non_negative(j, p, "hold_time", t.hold_time);
+  t.cool_time = r.positive(j, p, "cool_time", t.heat_time);
+  t.cycles = static_cast<int>(r.integer(j, p, "cycles", 1, 0, 1000000));
+  t.alpha_p = r.finite(j, p, "alpha_p", t.alpha_p);
+  t.alpha_c = r.finite(j, p, "alpha_c", t.alpha_c);
+  // Scales must stay positive over the whole protocol.
+  for (double a : {t.alpha_p, t.alpha_c}) {
+    if (1.0 + a * (t.T1 - t.T0) <= 0.0)
+      r.fail("thermal.alpha_p/alpha_c", "1 + alpha (T1 - T0) > 0 (a scale factor cannot vanish)");
+  }
+}
+
+// Cone: 16 (segments) planar side walls around the z axis and the floor z = 0.
+// Side wall k has its middle at azimuth phi_k = 2 pi k / N, distance r_c from the axis
+// at z = 0, and leans outward by theta_c: inward normal
+// n_k = (-cos(theta_c) cos(phi_k), -cos(theta_c) sin(phi_k), sin(theta_c)).
+void build_cone_walls(ContainerDef& c) {
+  const double theta = c.opening_angle_deg * M_PI / 180.0;
+  c.walls.clear();
+  c.walls.push_back({Vec3::UnitZ(), Vec3::Zero(), WallRole::Bottom, true});
+  for (int k = 0; k < c.segments; ++k) {
+    const double phi = 2.0 * M_PI * k / c.segments;
+    const Vec3 n(-std::cos(theta) * std::cos(phi), -std::cos(theta) * std::sin(phi), std::sin(theta));
+    const Vec3 p(c.bottom_radius * std::cos(phi), c.bottom_radius * std::sin(phi), 0.0);
+    c.walls.push_back({n, p, WallRole::Side, true});
+  }
+}
+
+void read_container(const Reader& r, const json& j, ContainerDef& c) {
+  const std::string p = "container";
+  if (!j.is_object()) r.fail(p, "an object", &j);
+  const std::string type = r.string(j, p, "type", "");
+  if (type == "cone") {
+    r.object(j, p, {"type", "bottom_radius", "opening_angle_deg", "segments", "height"});
+    c.type = ContainerDef::Type::Cone;
+    c.bottom_radius = r.positive(j, p, "bottom_radius", c.bottom_radius);
+    c.opening_angle_deg = r.number(j, p, "opening_angle_deg", c.opening_angle_deg, 0.0, 45.0, false,
+                                   false, "an angle in degrees in [0, 45]");
+    c.segments = static_cast<int>(r.integer(j, p, "segments", c.segments, 3, 1024));
+    c.height = r.positive(j, p, "height", c.height);
+    build_cone_walls(c);
+  } else if (type == "planes") {
+    r.object(j, p, {"type", "planes"});
+    c.type = ContainerDef::Type::Planes;
+    const json& planes = r.required(j, p, "planes", "a list of {normal, point}");
+    if (!planes.is_array() || planes.empty()) r.fail(p + ".planes", "a non-empty list of {normal, point}", &planes);
+    for (std::size_t i = 0; i < planes.size(); ++i) {
+      const std::string f = p + ".planes[" + std::to_string(i) + "]";
+      r.object(planes[i], f, {"normal", "point", "expands"});
+      WallDef w;
+      w.normal = r.vec3(r.required(planes[i], f, "normal", "a vector [x, y, z]"), f + ".normal");
+      if (w.normal.norm() < 1e-12) r.fail(f + ".normal", "a non-zero vector", &planes[i]["normal"]);
+      w.normal.normalize();
+      w.point = r.vec3(r.required(planes[i], f, "point", "a point [x, y, z]"), f + ".point");
+      w.expands = r.boolean(planes[i], f, "expands", false);
+      w.role = WallRole::Plane;
+      c.walls.push_back(w);
+    }
+  } else {
+    r.fail(p + ".type", "\"cone\" or \"planes\"", j.contains("type") ? &j.at("type") : nullptr);
+  }
+}
+
+void set_sphere_mass(BodyDef& b, double density) {
+  b.mass = density * 4.0 / 3.0 * M_PI * b.radius * b.radius * b.radius;
+  const double I = 0.4 * b.mass * b.radius * b.radius;  // solid sphere, 2/5 m r^2
+  b.principal_inertia = Vec3::Constant(I);
+  b.bounding_radius = b.radius;
+}
+
+void add_polyhedron_body(SceneDef& s, const PolyhedronBuild& build, BodyDef b) {
+  b.kind = ShapeKind::Polyhedron;
+  b.shape = static_cast<int>(s.shapes.size());
+  b.mass = s.materials.density * build.shape.volume;
+  b.principal_inertia = s.materials.density * build.shape.principal_inertia;
+  b.bounding_radius = build.shape.bounding_radius;
+  s.shapes.push_back(build.shape);
+  s.bodies.push_back(b);
+}
+
+Quat read_quaternion(const Reader& r, const json& j, const std::string& f) {
+  if (!j.is_array() || j.size() != 4) r.fail(f, "a quaternion [w, x, y, z]", &j);
+  double q[4];
+  for (std::size_t i = 0; i < 4; ++i) {
+    if (!j[i].is_number() || !std::isfinite(j[i].get<double>())) r.fail(f, "a quaternion [w, x, y, z] of finite numbers", &j);
+    q[i] = j[i].get<double>();
+  }
+  Quat out(q[0], q[1], q[2], q[3]);
+  if (out.norm() < 1e-12) r.fail(f, "a non-zero quaternion [w, x, y, z]", &j);
+  return out.normalized();
+}
+
+void read_listed_bodies(const Reader& r, const json& list, SceneDef& s) {
+  if (!list.is_array()) r.fail("particles.bodies", "a list of bodies", &list);
+  for (std::size_t i = 0; i < list.size(); ++i) {
+    const std::string f = "particles.bodies[" + std::to_string(i) + "]";
+    const json& j = list[i];
+    r.object(j, f, {"shape", "radius", "half_extents", "vertices", "position", "orientation", "velocity",
+                    "angular_velocity", "fixed"});
+    BodyDef b;
+    b.position = r.vec3(r.required(j, f, "position", "a point [x, y, z]"), f + ".position");
+    const Quat q_input = j.contains("orientation") ? read_quaternion(r, j.at("orientation"), f + ".orientation")
+                                                  : Quat::Identity();
+    b.velocity = r.vec3(j, f, "velocity", Vec3::Zero());
+    b.angular_velocity = r.vec3(j, f, "angular_velocity", Vec3::Zero());
+    b.fixed = r.boolean(j, f, "fixed", false);
+    const std::string shape = r.string(j, f, "shape", "");
+    try {
+      if (shape == "sphere") {
+        b.kind = ShapeKind::Sphere;
+        (void)r.required(j, f, "radius", "a finite positive number");
+        b.radius = r.positive(j, f, "radius", 0.0);
+        b.orientation = q_input;
+        set_sphere_mass(b, s.materials.density);
+        s.bodies.push_back(b);
+      } else if (shape == "box" || shape == "polyhedron") {
+        PolyhedronBuild build;
+        if (shape == "box") {
+          const Vec3 he = r.vec3(r.required(j, f, "half_extents", "[a, b, c] half extents"), f + ".half_extents");
+          if (!(he.minCoeff() > 0.0)) r.fail(f + ".half_extents", "three positive half extents", &j.at("half_extents"));
+          build = build_box(he);
+        } else {
+          const json& vs = r.required(j, f, "vertices", "a list of at least 4 points [x, y, z]");
+          if (!vs.is_array() || vs.size() < 4) r.fail(f + ".vertices", "a list of at least 4 points [x, y, z]", &vs);
+          std::vector<Vec3> pts;
+          for (std::size_t k = 0; k < vs.size(); ++k) pts.push_back(r.vec3(vs[k], f + ".vertices[" + std::to_string(k) + "]"));
+          build = build_convex_polyhedron(pts, s.source + ": field '" + f + ".vertices'");
+        }
+        // position is where the solid's centroid goes; orientation rotates the input frame.
+        b.orientation = (q_input * Quat(build.rotation)).normalized();
+        add_polyhedron_body(s, build, b);
+      } else {
+        r.fail(f + ".shape", "\"sphere\", \"box\" or \"polyhedron\"", j.contains("shape") ? &j.at("shape") : nullptr);
+      }
+    } catch (const std::invalid_argument& e) {
+      throw SceneError(std::string(e.what()));
+    }
+  }
+}
+
+// Loose lattice inside the container (or the given region), one site per particle,
+// filled layer by layer from the bottom; random orientations from the seed.
+std::vector<Vec3> lattice_sites(const Reader& r, const SceneDef& s, const json& gen, double spacing, int count,
+                                Rng& rng) {
+  Vec3 lo, hi;
+  bool in_disk = false;
+  double disk_radius = 0.0;
+  if (gen.contains("region")) {
+    const std::string f = "particles.generate.region";
+    r.object(gen.at("region"), f, {"min", "max"});
+    lo = r.vec3(r.required(gen.at("region"), f, "min", "a point [x, y, z]"), f + ".min");
+    hi = r.vec3(r.required(gen.at("region"), f, "max", "a point [x, y, z]"), f + ".max");
+    if (!((hi - lo).minCoeff() > 0.0)) r.fail(f, "min < max in every coordinate", &gen.at("region"));
+  } else if (s.container.type == ContainerDef::Type::Cone) {
+    in_disk = true;
+    disk_radius = s.container.bottom_radius - 0.5 * spacing;
+    lo = Vec3(-disk_radius, -disk_radius, 0.0);
+    hi = Vec3(disk_radius, disk_radius, HUGE_VAL);
+  } else {
+    r.fail("particles.generate.region", "a region {min, max} (required unless the container is a cone)");
+  }
+  std::vector<Vec3> sites;
+  const double jitter = 0.05 * spacing;  // breaks the lattice symmetry, keeps sites apart
+  for (int layer = 0; static_cast<int>(sites.size()) < count; ++layer) {
+    const double z = lo.z() + 0.5 * spacing + layer * spacing;
+    if (z + 0.5 * spacing > hi.z()) break;
+    for (double y = lo.y() + 0.5 * spacing; y + 0.5 * spacing <= hi.y() + 1e-12; y += spacing) {
+      for (double x = lo.x() + 0.5 * spacing; x + 0.5 * spacing <= hi.x() + 1e-12; x += spacing) {
+        if (in_disk && std::hypot(x, y) > disk_radius - 0.5 * spacing) continue;
+        if (static_cast<int>(sites.size()) >= count) break;
+        sites.emplace_back(x + uniform(rng, -jitter, jitter), y + uniform(rng, -jitter, jitter), z);
+      }
+    }
+    if (layer > 100000) break;
+  }
+  if (static_cast<int>(sites.size()) < count)
+    r.fail("particles.generate.count", "at most " + std::to_string(sites.size()) +
+                                           " particles (that is what fits in the region at lattice spacing " +
+                                           std::to_string(spacing) + ")",
+           &gen.at("count"));
+  return sites;
+}
+
+void read_generated(const Reader& r, const json& gen, SceneDef& s, Rng& rng) {
+  const std::string p = "particles.generate";
+  r.object(gen, p, {"count", "shape", "vertices", "ellipsoid_axes", "radius_range", "region", "spacing"});
+  const int count = static_cast<int>(r.integer(gen, p, "count", 0, 0, 10000000));
+  const std::string shape = r.string(gen, p, "shape", "polyhedron");
+  if (shape != "polyhedron" && shape != "sphere")
+    r.fail(p + ".shape", "\"polyhedron\" or \"sphere\"", &gen.at("shape"));
+  EllipsoidParticleSpec spec;
+  spec.vertices = static_cast<int>(r.integer(gen, p, "vertices", spec.vertices, 4, 10000));
+  spec.axes = r.vec3(gen, p, "ellipsoid_axes", spec.axes);
+  if (!(spec.axes.minCoeff() > 0.0)) r.fail(p + ".ellipsoid_axes", "three positive axes", &gen.at("ellipsoid_axes"));
+  if (gen.contains("radius_range")) {
+    const json& rr = gen.at("radius_range");
+    if (!rr.is_array() || rr.size() != 2 || !rr[0].is_number() || !rr[1].is_number() ||
+        !(rr[0].get<double>() > 0.0) || !(rr[1].get<double>() >= rr[0].get<double>()) ||
+        !std::isfinite(rr[1].get<double>()))
+      r.fail(p + ".radius_range", "[r_min, r_max] with 0 < r_min <= r_max", &rr);
+    spec.radius_min = rr[0].get<double>();
+    spec.radius_max = rr[1].get<double>();
+  }
+  const double spacing = r.number(gen, p, "spacing", 2.2 * spec.radius_max, 2.0 * spec.radius_max, HUGE_VAL,
+                                  false, false, "a lattice spacing >= 2 r_max (sites must not overlap)");
+  // Sites first, then shapes and orientations: the sequence of draws is fixed by the seed.
+  const std::vector<Vec3> sites = lattice_sites(r, s, gen, spacing, count, rng);
+  for (int i = 0; i < count; ++i) {
+    BodyDef b;
+    b.position = sites[static_cast<std::size_t>(i)];
+    if (shape == "sphere") {
+      b.kind = ShapeKind::Sphere;
+      b.radius = uniform(rng, spec.radius_min, spec.radius_max);
+      set_sphere_mass(b, s.materials.density);
+      s.bodies.push_back(b);
+    } else {
+      const PolyhedronBuild build = generate_ellipsoid_particle(spec, rng);
+      b.orientation = uniform_rotation(rng);
+      add_polyhedron_body(s, build, b);
+    }
+  }
+}
+
+void read_particles(const Reader& r, const json& j, SceneDef& s) {
+  r.object(j, "particles", {"generate", "bodies"});
+  Rng rng(s.seed);
+  try {
+    if (j.contains("generate")) read_generated(r, j.at("generate"), s, rng);
+  } catch (const std::invalid_argument& e) {
+    throw SceneError(s.source + ": field 'particles.generate': " + e.what());
+  }
+  if (j.contains("bodies")) read_listed_bodies(r, j.at("bodies"), s);
+  if (s.bodies.empty()) r.fail("particles", "at least one body (generate.count > 0 or a bodies list)");
+}
+
+}  // namespace
+
+bool SceneDef::has_polyhedron_pairs() const {
+  int n = 0;
+  for (const BodyDef& b : bodies) n += b.kind == ShapeKind::Polyhedron ? 1 : 0;
+  return n >= 2;
+}
+
+std::string fnv1a_hex(const std::string& bytes) {
+  std::uint64_t h = 1469598103934665603ull;  // FNV-1a 64-bit offset basis
+  for (unsigned char c : bytes) {
+    h ^= c;
+    h *= 1099511628211ull;  // FNV 64-bit prime
+  }
+  char buf[17];
+  std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(h));
+  return buf;
+}
+
+void apply_override(json& scene, const std::string& assignment, const std::string& source) {
+  const auto eq = assignment.find('=');
+  if (eq == std::string::npos || eq == 0)
+    throw SceneError(source + ": --set '" + assignment + "': expected key.path=value");
+  const std::string path = assignment.substr(0, eq);
+  const std::string text = assignment.substr(eq + 1);
+  json value = json::parse(text, nullptr, false);
+  if (value.is_discarded()) value = text;  // not JSON: a plain string
+  json* node = &scene;
+  std::stringstream ss(path);
+  std::string key;
+  while (std::getline(ss, key, '.')) {
+    if (key.empty()) throw SceneError(source + ": --set '" + assignment + "': empty key in the path");
+    if (node->is_null()) *node = json::object();  // a section the scene leaves to its defaults
+    if (!node->is_object()) throw SceneError(source + ": --set '" + assignment + "': '" + key + "' is inside a non-object");
+    node = &(*node)[key];
+  }
+  *node = value;
+}
+
+SceneDef build_scene(const json& j, const std::string& source) {
+  Reader r{source};
+  r.object(j, "", {"name", "seed", "gravity", "time", "solver", "materials", "effects", "container",
+                   "particles", "thermal", "outputs", "description"});
+  SceneDef s;
+  s.source = source;
+  s.name = r.string(j, "", "name", "");
+  if (s.name.empty()) r.fail("name", "a non-empty string", j.contains("name") ? &j.at("name") : nullptr);
+  s.seed = static_cast<std::uint64_t>(r.integer(j, "", "seed", 1, 0, std::numeric_limits<long long>::max()));
+  s.gravity = r.vec3(j, "", "gravity", s.gravity);
+  if (j.contains("effects")) read_effects(r, j.at("effects"), s.effects);
+  if (j.contains("solver")) read_solver(r, j.at("solver"), s.solver);
+  if (j.contains("materials")) read_materials(r, j.at("materials"), s.materials);
+  if (j.contains("thermal")) read_thermal(r, j.at("thermal"), s.thermal);
+  if (j.contains("container")) read_container(r, j.at("container"), s.container);
+  if (j.contains("outputs")) {
+    r.object(j.at("outputs"), "outputs", {"timeseries_every", "bodies_every"});
+    s.outputs.timeseries_every = static_cast<int>(r.integer(j.at("outputs"), "outputs", "timeseries_every", 1, 1, 1 << 30));
+    s.outputs.bodies_every = static_cast<int>(r.integer(j.at("outputs"), "outputs", "bodies_every", 0, 0, 1 << 30));
+  }
+  const json& time = r.required(j, "", "time", "an object {dt, duration}");
+  r.object(time, "time", {"dt", "duration"});
+  s.dt = r.positive(time, "time", "dt", s.dt);
+  if (time.contains("duration")) {
+    s.duration = r.positive(time, "time", "duration", 0.0);
+  } else if (s.thermal.enabled && s.thermal.cycles > 0) {
+    s.duration = s.thermal.start_time + s.thermal.cycles * s.thermal.cycle_time();
+  } else {
+    r.fail("time.duration", "a positive duration (or a thermal protocol with cycles to derive it from)");
+  }
+  s.steps = static_cast<std::int64_t>(std::llround(s.duration / s.dt));
+  if (s.steps < 1) r.fail("time.duration", "at least one time step (duration >= dt)", &time.at("duration"));
+  read_particles(r, r.required(j, "", "particles", "an object {generate and/or bodies}"), s);
+  s.as_run = j;
+  s.hash = fnv1a_hex(j.dump());
+  return s;
+}
+
+SceneDef load_scene(const std::string& path, const std::vector<std::string>& overrides) {
+  std::ifstream in(path);
+  if (!in) throw SceneError(path + ": cannot open the scene file");
+  json j = json::parse(in, nullptr, false, /*ignore_comments=*/true);
+  if (j.is_discarded()) {
+    // Parse again with exceptions on to report where the syntax breaks.
+    std::ifstream again(path);
+    try {
+      const json unused = json::parse(again, nullptr, true, true);
+      (void)unused;
+    } catch (const json::parse_error& e) {
+      throw SceneError(path + ": not valid JSON: " + e.what());
+    }
+    throw SceneError(path + ": not valid JSON");
+  }
+  for (const std::string& o : overrides) apply_override(j, o, path);
+  return build_scene(j, path);
+}
+
+}  // namespace ratchet

@@ -1,0 +1,131 @@
+// The scene definition: everything a run needs, read-only during the run
+// (the "model" of the model/state/scratch split, docs/architecture.md).
+// Symbols follow the paper: h time step, mu friction, p_gap gap relaxation,
+// alpha_p / alpha_c thermal expansion of particles / container, theta_c opening angle.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "ratchet/geometry/convex_polyhedron.hpp"
+
+namespace ratchet {
+
+struct Effects {
+  bool gravity = true;
+  bool friction = true;
+  bool rotation = true;
+  bool particle_expansion = true;
+  bool container_expansion = true;
+};
+
+struct SolverSettings {
+  double tolerance = 1e-4;  // relative change of the impulses between sweeps (design.md s.3)
+  int max_iterations = 1000;
+  double theta = 1.0;       // Moreau-Jean theta in [0.5, 1]; 1 = fully implicit
+  double p_gap = 0.1;       // fraction of an overlap closed per step, in (0, 1]
+  bool warm_start = true;
+  double contact_margin = 0.05;  // contacts closer than this (length units) are detected
+  int threads = 0;          // 0: OpenMP default; results do not depend on it
+};
+
+struct Materials {
+  double friction = 0.5;       // mu particle-particle
+  double wall_friction = 0.5;  // mu particle-wall
+  double density = 1.0;
+};
+
+struct ThermalProtocol {
+  bool enabled = false;  // a scene without "thermal" has no thermal phase
+  double T0 = 0.0, T1 = 100.0;
+  double start_time = 0.0;  // T stays T0 until then (lets a bed settle first)
+  double heat_time = 0.0, hold_time = 0.0, cool_time = 0.0;
+  int cycles = 0;
+  double alpha_p = 1e-4, alpha_c = 1e-3;
+  double cycle_time() const { return heat_time + hold_time + cool_time + hold_time; }
+};
+
+enum class WallRole { Bottom, Side, Plane };
+
+// A wall is a half-space {x : normal . (x - point) >= 0} holding the bodies on the
+// side the normal points to. Container walls move with the container scale s_c.
+struct WallDef {
+  Vec3 normal = Vec3::UnitZ();
+  Vec3 point = Vec3::Zero();  // at container scale 1
+  WallRole role = WallRole::Plane;
+  bool expands = false;       // moves with the container scale about scale_center
+};
+
+struct ContainerDef {
+  enum class Type { None, Cone, Planes } type = Type::None;
+  double bottom_radius = 8.5;     // to the middle of each flat segment
+  double opening_angle_deg = 0.0; // angle of the side wall from the vertical
+  int segments = 16;
+  double height = 30.0;
+  Vec3 scale_center = Vec3::Zero();  // the bottom centre: container points scale about it
+  std::vector<WallDef> walls;
+};
+
+enum class ShapeKind { Sphere, Polyhedron };
+
+struct BodyDef {
+  ShapeKind kind = ShapeKind::Sphere;
+  double radius = 0.0;       // sphere radius at scale 1
+  int shape = -1;            // index into SceneDef::shapes for polyhedra
+  Vec3 position = Vec3::Zero();  // centre of mass
+  Quat orientation = Quat::Identity();  // body (principal) frame -> world
+  Vec3 velocity = Vec3::Zero();
+  Vec3 angular_velocity = Vec3::Zero();
+  bool fixed = false;
+  double mass = 0.0;              // constant under expansion
+  Vec3 principal_inertia = Vec3::Zero();  // at scale 1
+  double bounding_radius = 0.0;   // at scale 1
+};
+
+struct OutputSettings {
+  int timeseries_every = 1;  // steps between rows of timeseries.csv
+  int bodies_every = 0;      // steps between snapshots in bodies.csv; 0: first and last only
+};
+
+struct SceneDef {
+  std::string source;        // file the scene came from (for messages)
+  std::string name;
+  std::uint64_t seed = 1;
+  Vec3 gravity = Vec3(0.0, 0.0, -1.0);
+  double dt = 1e-3;
+  double duration = 0.0;
+  std::int64_t steps = 0;    // round(duration / dt)
+  SolverSettings solver;
+  Materials materials;
+  Effects effects;
+  ContainerDef container;
+  ThermalProtocol thermal;
+  OutputSettings outputs;
+  std::vector<ConvexPolyhedron> shapes;
+  std::vector<BodyDef> bodies;
+  nlohmann::json as_run;     // the scene JSON after --set overrides, defaults filled in
+  std::string hash;          // FNV-1a 64 of as_run.dump(), hex
+
+  bool has_polyhedron_pairs() const;
+};
+
+// Thrown for any malformed scene: the message names the file, the field and what was
+// expected. Nothing has been written when it is thrown.
+struct SceneError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+// Applies "key.path=value" overrides (value parsed as JSON, else taken as a string).
+void apply_override(nlohmann::json& scene, const std::string& assignment, const std::string& source);
+
+// Reads, checks and builds a scene. Generated particles are created here from the seed.
+SceneDef load_scene(const std::string& path, const std::vector<std::string>& overrides = {});
+SceneDef build_scene(const nlohmann::json& scene, const std::string& source);
+
+// Stable 64-bit FNV-1a hash as 16 hex digits.
+std::string fnv1a_hex(const std::string& bytes);
+
+}  // namespace ratchet

@@ -1,0 +1,125 @@
+#include "ratchet/solver/local_coulomb.hpp"
+
+#include <cmath>
+
+namespace ratchet {
+
+namespace {
+
+// Sliding solution for a given friction direction d (unit, in the tangent plane):
+// lambda_t = mu lambda_n d and u_n = 0 fix lambda_n; returns the tangential velocity.
+struct SlideTrial {
+  double lambda_n;
+  Eigen::Vector2d u_t;
+  bool valid;
+};
+
+SlideTrial slide_trial(const Mat3& W, const Vec3& w, double mu, const Eigen::Vector2d& d) {
+  const Eigen::Vector2d W_nt(W(0, 1), W(0, 2));
+  const double denom = W(0, 0) + mu * W_nt.dot(d);
+  if (!(denom > 0.0)) return {0.0, Eigen::Vector2d::Zero(), false};
+  const double ln = -w[0] / denom;
+  const Eigen::Vector2d W_tn(W(1, 0), W(2, 0));
+  Eigen::Matrix2d W_tt;
+  W_tt << W(1, 1), W(1, 2), W(2, 1), W(2, 2);
+  const Eigen::Vector2d u_t = Eigen::Vector2d(w[1], w[2]) + W_tn * ln + W_tt * (mu * ln * d);
+  return {ln, u_t, true};
+}
+
+// Residual of the sliding condition "u_t antiparallel to d": the 2D cross product,
+// normalised; zero at a solution.
+double slide_residual(const SlideTrial& s, const Eigen::Vector2d& d) {
+  const double norm = s.u_t.norm();
+  if (norm == 0.0) return 0.0;
+  return (d.x() * s.u_t.y() - d.y() * s.u_t.x()) / norm;
+}
+
+}  // namespace
+
+LocalSolution solve_local_coulomb(const Mat3& W, const Vec3& w, double mu) {
+  LocalSolution sol;
+  if (w[0] >= 0.0) return sol;  // the gap stays open with no impulse
+  if (mu == 0.0) {
+    sol.lambda = Vec3(solve_local_normal(W(0, 0), w[0]), 0.0, 0.0);
+    sol.status = LocalStatus::Slide;
+    return sol;
+  }
+  // Stick: u = 0.
+  const Vec3 stick = -W.ldlt().solve(w);
+  const double lt = std::hypot(stick[1], stick[2]);
+  if (stick[0] > 0.0 && lt <= mu * stick[0]) {
+    sol.lambda = stick;
+    sol.status = LocalStatus::Stick;
+    return sol;
+  }
+  sol.status = LocalStatus::Slide;
+  // Slide: find the direction d with u_t(d) = -k d, k > 0. Fixed point
+  // d <- -u_t(d)/|u_t(d)| from the stick trial direction; it converges in one step when
+  // W_tt is isotropic and W_nt = 0 (a sphere on a plane) and in a few otherwise.
+  Eigen::Vector2d d = lt > 0.0 ? Eigen::Vector2d(stick[1] / lt, stick[2] / lt)
+                               : Eigen::Vector2d(-w[1], -w[2]).normalized();
+  if (!d.allFinite()) d = Eigen::Vector2d(1.0, 0.0);
+  constexpr double kDirTol = 1e-13;  // direction converged to near round-off
+  for (int it = 0; it < 60; ++it) {
+    const SlideTrial s = slide_trial(W, w, mu, d);
+    if (!s.valid) break;
+    const double un = s.u_t.norm();
+    if (un == 0.0) break;
+    const Eigen::Vector2d d_next = -s.u_t / un;
+    if ((d_next - d).norm() < kDirTol && s.lambda_n >= 0.0) {
+      const SlideTrial f = slide_trial(W, w, mu, d_next);
+      sol.lambda = Vec3(f.lambda_n, mu * f.lambda_n * d_next.x(), mu * f.lambda_n * d_next.y());
+      return sol;
+    }
+    d = d_next;
+  }
+  // Fallback for strongly coupled W: scan the angle of d for sign changes of the
+  // residual, bisect each to machine precision, and keep the admissible roots
+  // (lambda_n >= 0, u_t . d < 0). Several may exist when mu is large (the local problem
+  // is not unique then); take the one nearest the stick trial direction, so the choice
+  // is deterministic and continuous with the stick branch.
+  constexpr int kSamples = 256;
+  const Eigen::Vector2d d0 = d;
+  auto dir = [](double a) { return Eigen::Vector2d(std::cos(a), std::sin(a)); };
+  auto residual_at = [&](double a) {
+    const Eigen::Vector2d da = dir(a);
+    return slide_residual(slide_trial(W, w, mu, da), da);
+  };
+  bool found = false;
+  double best_angle = 0.0, best_score = -HUGE_VAL;
+  double a0 = 0.0, r0 = residual_at(a0);
+  for (int k = 1; k <= kSamples; ++k) {
+    const double a1 = 2.0 * M_PI * k / kSamples;
+    const double r1 = residual_at(a1);
+    if (r0 == 0.0 || (r0 < 0.0) != (r1 < 0.0)) {
+      double lo = a0, hi = a1, rlo = r0;
+      for (int b = 0; b < 60 && rlo != 0.0; ++b) {
+        const double mid = 0.5 * (lo + hi);
+        const double rm = residual_at(mid);
+        if ((rm < 0.0) == (rlo < 0.0)) { lo = mid; rlo = rm; } else { hi = mid; }
+      }
+      const Eigen::Vector2d dr = dir(lo);
+      const SlideTrial t = slide_trial(W, w, mu, dr);
+      const double un = t.u_t.norm();
+      const bool admissible = t.valid && t.lambda_n >= 0.0 && t.u_t.dot(dr) < 0.0 &&
+                              std::abs(slide_residual(t, dr)) < 1e-9 && un > 0.0;
+      if (admissible && dr.dot(d0) > best_score) { best_score = dr.dot(d0); best_angle = lo; found = true; }
+    }
+    a0 = a1;
+    r0 = r1;
+  }
+  if (found) {
+    const Eigen::Vector2d db = dir(best_angle);
+    const SlideTrial f = slide_trial(W, w, mu, db);
+    sol.lambda = Vec3(f.lambda_n, mu * f.lambda_n * db.x(), mu * f.lambda_n * db.y());
+  } else {
+    // No admissible sliding direction found (not seen in the property test of
+    // tests/solver/local_coulomb_test.cpp): project the stick impulse onto the cone.
+    const double ln = std::max(0.0, stick[0]);
+    const double scale = lt > 0.0 ? mu * ln / lt : 0.0;
+    sol.lambda = Vec3(ln, stick[1] * scale, stick[2] * scale);
+  }
+  return sol;
+}
+
+}  // namespace ratchet

@@ -1,0 +1,44 @@
+// Per-step scratch: rebuilt from SceneDef + State at every step, never carried over
+// (the third kind of data next to scene/scene.hpp and world/state.hpp).
+#pragma once
+
+#include <vector>
+
+#include "ratchet/contact/broad_phase.hpp"
+#include "ratchet/contact/contact_point.hpp"
+#include "ratchet/scene/scene.hpp"
+#include "ratchet/thermal/thermal_protocol.hpp"
+
+namespace ratchet {
+
+// One contact point as the solver sees it. Local frame columns (n, t1, t2).
+struct SolverContact {
+  int a = 0, b = 0;                // b < 0: wall -1 - b
+  ContactPoint geometry;
+  Vec3 t1 = Vec3::UnitX(), t2 = Vec3::UnitY();
+  Vec3 ra = Vec3::Zero(), rb = Vec3::Zero();  // lever arms from the centres of mass
+  Mat3 W = Mat3::Zero();           // local Delassus block (only W(0,0) without friction)
+  double mu = 0.0;
+  double bias = 0.0;               // b: u_n + b >= 0 is the velocity form of g(t+h) >= 0
+  Vec3 u_expansion = Vec3::Zero(); // relative velocity of the contact from thermal expansion (world)
+  Vec3 lambda = Vec3::Zero();      // local impulse (n, t1, t2) on A
+};
+
+struct StepScratch {
+  ThermalScales next;              // scales at t + h
+  double eps_p = 0.0, eps_c = 0.0; // expansion rates (ds/dt)/s over the step
+  std::vector<Vec3> v_begin, w_begin;
+  std::vector<Mat3> R;             // body -> world rotations
+  std::vector<Mat3> inv_inertia;   // world-frame inverse inertia (zero: no rotation)
+  std::vector<double> inv_mass;    // zero for fixed bodies
+  std::vector<int> vertex_offset;  // into world_vertices, -1 for spheres
+  std::vector<Vec3> world_vertices;
+  std::vector<Vec3> centers;
+  std::vector<double> radii;       // current bounding radii
+  std::vector<BodyPair> pairs;
+  std::vector<ContactManifold> pair_manifolds;
+  std::vector<ContactManifold> wall_manifolds;  // body-major, wall-minor
+  std::vector<SolverContact> contacts;
+};
+
+}  // namespace ratchet

@@ -1,0 +1,42 @@
+// The mutable state of a run: everything that carries from one step to the next
+// (poses, velocities, scales, the impulses and common planes kept for warm starting).
+// A snapshot of State plus the SceneDef restarts a run exactly.
+#pragma once
+
+#include <cstdint>
+#include <tuple>
+#include <vector>
+
+#include "ratchet/core/types.hpp"
+
+namespace ratchet {
+
+// A contact point's identity across steps. b < 0 denotes wall -1 - b.
+struct ContactKey {
+  int a = 0, b = 0;
+  std::int32_t feature_a = 0, feature_b = 0;
+  bool operator<(const ContactKey& o) const {
+    return std::tie(a, b, feature_a, feature_b) < std::tie(o.a, o.b, o.feature_a, o.feature_b);
+  }
+  bool operator==(const ContactKey& o) const {
+    return a == o.a && b == o.b && feature_a == o.feature_a && feature_b == o.feature_b;
+  }
+};
+
+struct KeptImpulse {
+  ContactKey key;
+  Vec3 impulse = Vec3::Zero();  // world frame, on A
+};
+
+struct State {
+  std::int64_t step = 0;
+  double t = 0.0;
+  double T = 0.0;    // temperature at t
+  double s_p = 1.0;  // particle scale at t
+  double s_c = 1.0;  // container scale at t
+  std::vector<Vec3> x, v, w;  // centre of mass, velocity, angular velocity (world)
+  std::vector<Quat> q;        // orientation, body -> world
+  std::vector<KeptImpulse> impulses;  // sorted by key
+};
+
+}  // namespace ratchet

@@ -1,0 +1,87 @@
+// The world: a scene, its state and the step. Legend (paper symbols):
+//   h       time step                  W       local Delassus block
+//   u       relative velocity          lambda  contact impulse
+//   mu      Coulomb friction           g       signed gap
+//   p_gap   gap relaxation             theta   Moreau-Jean parameter
+//   alpha_p, alpha_c, s_p, s_c   expansion coefficients and scales of particles and container
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "ratchet/scene/scene.hpp"
+#include "ratchet/world/phases.hpp"
+#include "ratchet/world/scratch.hpp"
+#include "ratchet/world/state.hpp"
+
+namespace ratchet {
+
+// What a step of this scene will do and why (ratchet run --explain, run.json).
+struct PlanItem {
+  std::string name;
+  bool active = true;
+  std::string reason;
+};
+
+struct StepStats {
+  int contacts = 0;
+  int iterations = 0;
+  double residual = 0.0;
+  double wall_force_side = 0.0;    // total normal force on the side walls
+  double wall_force_bottom = 0.0;  // normal force on the bottom
+  double wall_force_total = 0.0;   // normal force on all walls (side, bottom and plain planes)
+  std::int64_t tangential_solves = 0;  // accumulated over the run
+  std::int64_t total_iterations = 0;   // accumulated over the run
+  std::int64_t unconverged_steps = 0;  // steps that hit solver.max_iterations
+  bool converged = true;               // the last step met the tolerance
+  bool normal_growth = false;          // ... and if not, its normal impulses still grew
+};
+
+class World {
+ public:
+  explicit World(const SceneDef& scene);
+
+  // One Moreau-Jean step of length h, as the named phases of design.md section 3.
+  void step();
+
+  const SceneDef& scene() const { return scene_; }
+  const State& state() const { return state_; }
+  State& mutable_state() { return state_; }
+  const StepStats& stats() const { return stats_; }
+  const PhaseTimers& timers() const { return timers_; }
+  const std::vector<SolverContact>& contacts() const { return scratch_.contacts; }
+  std::vector<PlanItem> plan() const;
+
+  // Observables of the current state.
+  double kinetic_energy() const;
+  double bed_height() const;            // highest particle point above the floor
+  double wetted_side_area(double height) const;  // cone side walls from z = 0 to height
+  double pressure() const;              // wall_force_side / wetted side area (cone only)
+  Vec3 wall_point(int wall) const;      // current point of a wall (container scale)
+  double body_scale(int i) const;       // thermal scale of body i (1 for fixed bodies? no: all particles)
+
+ private:
+  void free_velocity();
+  void thermal();
+  void detect();
+  void solve();
+  void integrate();
+  void keep_impulses();
+  void observe();
+
+  void prepare_bodies();
+  void build_solver_contacts();
+  void warm_start();
+  void gauss_seidel();
+  void apply_impulse(const SolverContact& c, const Vec3& P);
+  Vec3 relative_velocity(const SolverContact& c) const;
+
+  SceneDef scene_;
+  State state_;
+  StepScratch scratch_;
+  StepStats stats_;
+  PhaseTimers timers_;
+  bool gravity_on_ = false, thermal_on_ = false, friction_on_ = false, rotation_on_ = false;
+};
+
+}  // namespace ratchet

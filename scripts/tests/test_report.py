@@ -1,0 +1,260 @@
+"""Tests of scripts/report.py on synthetic check files.
+
+Run with Debian's interpreter: /usr/bin/python3 -m pytest -q scripts/tests
+"""
+
+from __future__ import annotations
+
+import base64
+import importlib.util
+import json
+import math
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+SCRIPT = Path(__file__).resolve().parent.parent / "report.py"
+PYTHON = "/usr/bin/python3"
+
+
+def _load_module():
+    spec = importlib.util.spec_from_file_location("ratchet_report", SCRIPT)
+    module = importlib.util.module_from_spec(spec)
+    sys.modules[spec.name] = module
+    spec.loader.exec_module(module)
+    return module
+
+
+report = _load_module()
+
+
+def check(case="case_a", name="check_1", measured=1.0, expected="1", tolerance="abs 0.1",
+          reason="because", passed=True):
+    return {"case": case, "check": name, "measured": measured, "expected": expected,
+            "tolerance": tolerance, "reason": reason, "passed": passed}
+
+
+def write_checks(folder: Path, records, name="validation_case-123.jsonl") -> Path:
+    folder.mkdir(parents=True, exist_ok=True)
+    path = folder / name
+    with open(path, "a", encoding="utf-8") as stream:
+        for record in records:
+            stream.write((record if isinstance(record, str) else json.dumps(record)) + "\n")
+    return path
+
+
+def run(checks: Path, out: Path, *extra: str):
+    """report.main in-process; returns its exit status (output via capsys)."""
+    return report.main(["--checks", str(checks), "--out", str(out), "--no-color", *extra])
+
+
+@pytest.fixture
+def folders(tmp_path):
+    return tmp_path / "checks", tmp_path / "out"
+
+
+MIXED = [
+    check("free_fall", "z(t=1)", 0.30000000000000004, "0.3", "abs 1e-12", "exact", True),
+    check("wall_pressure", "P_max", 1.2, "1", "rel 0.05", "coarse bed", False),
+    check("energy", "kinetic energy", 1e-9, "<= 1e-06", "upper bound", "at rest", True),
+]
+
+
+def test_table_contains_each_check(folders, capsys):
+    checks, out = folders
+    write_checks(checks, MIXED[:1])
+    write_checks(checks, MIXED[1:], name="other-456.jsonl")
+    status = run(checks, out)
+    terminal = capsys.readouterr().out
+    markdown = (out / "report.md").read_text(encoding="utf-8")
+    page = (out / "report.html").read_text(encoding="utf-8")
+    for record in MIXED:
+        for text in (terminal, markdown, page):
+            assert record["case"] in text
+            assert record["check"] in text
+            assert repr(record["measured"]) in text
+            assert record["tolerance"] in text
+    assert "0.30000000000000004" in markdown  # full precision, not rounded
+    assert "checks: 2 passed, 1 failed" in terminal.splitlines()[-1]
+    assert status == 1
+
+
+def test_terminal_table_is_aligned(folders, capsys):
+    checks, out = folders
+    write_checks(checks, MIXED)
+    run(checks, out)
+    lines = capsys.readouterr().out.splitlines()
+    header, rule, rows = lines[0], lines[1], lines[2:5]
+    for column in ("case", "check", "expected", "measured", "tolerance", "result"):
+        assert column in header
+    bars = [i for i, c in enumerate(rule) if c == "+"]
+    assert len(bars) == 5
+    for row in [header] + rows:
+        assert [i for i, c in enumerate(row) if c == "|"] == bars
+
+
+def test_all_passing_exits_zero(folders, capsys):
+    checks, out = folders
+    write_checks(checks, [MIXED[0], MIXED[2]])
+    assert run(checks, out) == 0
+    assert capsys.readouterr().out.splitlines()[-1] == "checks: 2 passed, 0 failed"
+    assert "PASSED: all 2 checks passed" in (out / "report.md").read_text(encoding="utf-8")
+
+
+def test_one_failure_makes_exit_one(folders, capsys):
+    checks, out = folders
+    write_checks(checks, [MIXED[0], MIXED[1]])
+    assert run(checks, out) == 1
+    captured = capsys.readouterr().out
+    assert "FAIL" in captured
+    assert "wall_pressure / P_max" in captured and "coarse bed" in captured
+    markdown = (out / "report.md").read_text(encoding="utf-8")
+    assert "FAILED: 1 of 2 checks failed" in markdown
+    assert "**FAIL**" in markdown
+    page = (out / "report.html").read_text(encoding="utf-8")
+    assert '<tr class="fail">' in page and '<tr class="pass">' in page
+
+
+def test_empty_folder_exits_one_with_a_message(folders, capsys):
+    checks, out = folders
+    checks.mkdir()
+    (checks / "empty-1.jsonl").write_text("\n", encoding="utf-8")
+    assert run(checks, out) == 1
+    captured = capsys.readouterr()
+    assert "no checks found" in captured.err
+    assert not (out / "report.md").exists() and not (out / "report.html").exists()
+
+
+def test_missing_folder_exits_one_with_a_message(folders, capsys):
+    checks, out = folders
+    assert run(checks, out) == 1
+    assert "does not exist" in capsys.readouterr().err
+
+
+def test_no_checks_removes_a_stale_report(folders, capsys):
+    checks, out = folders
+    write_checks(checks, MIXED[:1])
+    assert run(checks, out) == 0
+    assert (out / "report.md").exists()
+    for path in checks.iterdir():
+        path.unlink()
+    assert run(checks, out) == 1
+    assert not (out / "report.md").exists() and not (out / "report.html").exists()
+    assert "removed the earlier report" in capsys.readouterr().err
+
+
+def test_malformed_line_names_file_and_line(folders, capsys):
+    checks, out = folders
+    path = write_checks(checks, [MIXED[0], "{not json"])
+    assert run(checks, out) == 2
+    assert f"{path}:2" in capsys.readouterr().err
+    assert not (out / "report.md").exists()
+
+
+def test_missing_field_is_an_error(folders, capsys):
+    checks, out = folders
+    record = dict(MIXED[0])
+    del record["tolerance"]
+    write_checks(checks, [record])
+    assert run(checks, out) == 2
+    assert "missing field(s) tolerance" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("written_passed", [False, True])
+def test_nan_measured_is_shown_as_a_failure(folders, capsys, written_passed):
+    checks, out = folders
+    # The C++ writer stores NaN as null with passed false; even a writer that claims
+    # success must not turn a non-number into a pass.
+    write_checks(checks, [MIXED[0], check("blow_up", "energy", None, "0", "abs 1", "r", written_passed)])
+    assert run(checks, out) == 1
+    frame = report.load_checks(checks)
+    row = frame[frame["case"] == "blow_up"].iloc[0]
+    assert math.isnan(row["measured"]) and not row["passed"]
+    terminal = capsys.readouterr().out
+    nan_line = next(line for line in terminal.splitlines() if line.startswith("blow_up"))
+    assert "non-finite" in nan_line and "FAIL" in nan_line
+    markdown = (out / "report.md").read_text(encoding="utf-8")
+    assert "| blow_up | energy | 0 | non-finite | abs 1 | **FAIL** |" in markdown
+
+
+def test_atomic_write_leaves_no_temporary_files(folders):
+    checks, out = folders
+    write_checks(checks, MIXED)
+    run(checks, out)
+    run(checks, out)  # a second run replaces the reports
+    assert sorted(p.name for p in out.iterdir()) == ["report.html", "report.md"]
+
+
+def test_failed_write_leaves_neither_temporary_nor_partial_file(tmp_path, monkeypatch):
+    target = tmp_path / "report.md"
+    target.write_text("old\n", encoding="utf-8")
+
+    def broken_replace(src, dst):
+        raise OSError("disk full")
+
+    monkeypatch.setattr(report.os, "replace", broken_replace)
+    with pytest.raises(OSError):
+        report.write_atomic(target, "new\n")
+    assert [p.name for p in tmp_path.iterdir()] == ["report.md"]
+    assert target.read_text(encoding="utf-8") == "old\n"
+
+
+def test_figures_are_embedded(folders):
+    checks, out = folders
+    write_checks(checks, MIXED[:1])
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    figure, axes = plt.subplots(figsize=(2, 2))
+    axes.plot([0, 1], [0, 1])
+    png = report.save_figure(figure, out, "wall pressure", caption="P(t) over two cycles")
+    plt.close(figure)
+    assert run(checks, out) == 0
+    markdown = (out / "report.md").read_text(encoding="utf-8")
+    assert "![P(t) over two cycles](figures/wall%20pressure.png)" in markdown
+    page = (out / "report.html").read_text(encoding="utf-8")
+    assert "data:image/png;base64," + base64.b64encode(png.read_bytes()).decode("ascii") in page
+    assert "figures/" not in page  # self-contained
+    assert sorted(p.name for p in (out / "figures").iterdir()) == ["wall pressure.png",
+                                                                     "wall pressure.txt"]
+
+
+def test_html_escapes_text(folders):
+    checks, out = folders
+    write_checks(checks, [check("a<b>", "x & y", 1.0, "<= 2", "upper bound", "<script>", True)])
+    assert run(checks, out) == 0
+    page = (out / "report.html").read_text(encoding="utf-8")
+    assert "<script>" not in page and "&lt;script&gt;" in page
+    assert "a&lt;b&gt;" in page and "x &amp; y" in page
+
+
+def test_markdown_escapes_pipes(folders):
+    checks, out = folders
+    write_checks(checks, [check("c", "a|b", 1.0, "1", "abs 0", "line\nbreak", True)])
+    assert run(checks, out) == 0
+    markdown = (out / "report.md").read_text(encoding="utf-8")
+    assert "| c | a\\|b | 1 | 1.0 | abs 0 | PASS | line break |" in markdown
+
+
+def test_header_has_date_and_tier(folders):
+    checks, out = folders
+    write_checks(checks, MIXED[:1])
+    run(checks, out, "--tier", "quick")
+    markdown = (out / "report.md").read_text(encoding="utf-8")
+    assert "- Date: " in markdown and "- Tier: quick" in markdown
+
+
+def test_command_line_with_debian_python(folders):
+    checks, out = folders
+    write_checks(checks, MIXED)
+    done = subprocess.run([PYTHON, str(SCRIPT), "--checks", str(checks), "--out", str(out)],
+                          capture_output=True, text=True, check=False,
+                          env={**os.environ, "NO_COLOR": "1"})
+    assert done.returncode == 1, done.stderr
+    assert done.stdout.splitlines()[-1] == "checks: 2 passed, 1 failed"
+    assert "\x1b[" not in done.stdout
