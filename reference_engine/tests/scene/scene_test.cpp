@@ -1,0 +1,171 @@
+// Scene reading: defaults, derived fields, generation, and the error messages for
+// malformed input (file, field and expectation named; nothing built).
+#include "ratchet/scene/scene.hpp"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace ratchet {
+namespace {
+
+using nlohmann::json;
+using ::testing::AllOf;
+using ::testing::HasSubstr;
+
+json minimal_scene() {
+  return json::parse(R"({
+    "name": "t", "time": {"dt": 0.01, "duration": 1.0},
+    "container": {"type": "planes", "planes": [{"normal": [0, 0, 2], "point": [0, 0, 0]}]},
+    "particles": {"bodies": [{"shape": "sphere", "radius": 0.5, "position": [0, 0, 1]}]}
+  })");
+}
+
+std::string error_of(const json& j) {
+  try {
+    build_scene(j, "scene.json");
+  } catch (const SceneError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(Scene, MinimalSceneGetsDefaults) {
+  const SceneDef s = build_scene(minimal_scene(), "scene.json");
+  EXPECT_EQ(s.steps, 100);
+  EXPECT_DOUBLE_EQ(s.solver.tolerance, 1e-4);
+  EXPECT_DOUBLE_EQ(s.materials.friction, 0.5);
+  EXPECT_FALSE(s.thermal.enabled);
+  ASSERT_EQ(s.container.walls.size(), 1u);
+  EXPECT_DOUBLE_EQ(s.container.walls[0].normal.z(), 1.0);  // normalised
+  EXPECT_NEAR(s.bodies[0].mass, 4.0 / 3.0 * M_PI * 0.125, 1e-15);
+  EXPECT_EQ(s.hash.size(), 16u);
+}
+
+TEST(Scene, DurationDefaultsToTheThermalProtocol) {
+  json j = minimal_scene();
+  j["time"].erase("duration");
+  j["thermal"] = {{"heat_time", 2.0}, {"hold_time", 1.0}, {"cool_time", 3.0}, {"cycles", 2}, {"start_time", 0.5}};
+  const SceneDef s = build_scene(j, "scene.json");
+  EXPECT_DOUBLE_EQ(s.duration, 0.5 + 2 * (2.0 + 1.0 + 3.0 + 1.0));
+  EXPECT_EQ(s.steps, 1450);
+}
+
+TEST(Scene, ConeHasABottomAndSegmentsLeaningOutByTheOpeningAngle) {
+  json j = minimal_scene();
+  j["container"] = {{"type", "cone"}, {"bottom_radius", 8.5}, {"opening_angle_deg", 6.0}, {"segments", 16}};
+  const SceneDef s = build_scene(j, "scene.json");
+  ASSERT_EQ(s.container.walls.size(), 17u);
+  EXPECT_EQ(s.container.walls[0].role, WallRole::Bottom);
+  for (std::size_t k = 1; k < 17; ++k) {
+    const WallDef& w = s.container.walls[k];
+    EXPECT_NEAR(w.normal.norm(), 1.0, 1e-15);
+    EXPECT_NEAR(std::asin(w.normal.z()), 6.0 * M_PI / 180.0, 1e-14);  // leans outward
+    EXPECT_NEAR(std::hypot(w.point.x(), w.point.y()), 8.5, 1e-12);    // middle of the segment
+    EXPECT_GT(w.normal.dot(Vec3::Zero() - w.point), 0.0);               // the axis is inside
+  }
+}
+
+TEST(Scene, GeneratedParticlesAreFixedBySeedAndDoNotOverlap) {
+  json j = minimal_scene();
+  j["particles"] = {{"generate", {{"count", 50}, {"vertices", 12}}}};
+  j["container"] = {{"type", "cone"}};
+  const SceneDef a = build_scene(j, "scene.json"), b = build_scene(j, "scene.json");
+  ASSERT_EQ(a.bodies.size(), 50u);
+  for (std::size_t i = 0; i < a.bodies.size(); ++i) {
+    EXPECT_EQ(a.bodies[i].position, b.bodies[i].position);
+    EXPECT_EQ(a.shapes[i].vertices, b.shapes[i].vertices);
+    for (std::size_t k = 0; k < i; ++k)
+      EXPECT_GT((a.bodies[i].position - a.bodies[k].position).norm(),
+                a.bodies[i].bounding_radius + a.bodies[k].bounding_radius);
+  }
+  j["seed"] = 2;
+  const SceneDef c = build_scene(j, "scene.json");
+  EXPECT_NE(a.shapes[0].vertices, c.shapes[0].vertices);
+}
+
+TEST(Scene, ListedPolyhedronIsCentredAtItsCentroid) {
+  json j = minimal_scene();
+  j["particles"]["bodies"] = json::array({{{"shape", "polyhedron"},
+                                           {"vertices", {{0, 0, 0}, {2, 0, 0}, {0, 2, 0}, {0, 0, 2}}},
+                                           {"position", {1, 2, 3}}}});
+  const SceneDef s = build_scene(j, "scene.json");
+  EXPECT_NEAR(s.bodies[0].mass, 8.0 / 6.0, 1e-14);  // tetrahedron volume, density 1
+  // World vertices: position + R v; their centroid (of the solid) is the position.
+  Vec3 mean = Vec3::Zero();
+  for (const Vec3& v : s.shapes[0].vertices) mean += s.bodies[0].orientation * v;
+  EXPECT_NEAR((mean / 4.0).norm(), 0.0, 1e-14);  // the vertex mean is the centroid for a tetrahedron
+}
+
+struct BadCase {
+  const char* what;
+  const char* path;      // json pointer to change
+  const char* value;     // JSON text
+  const char* field;     // expected in the message
+  const char* expected;  // expected in the message
+};
+
+class MalformedScene : public ::testing::TestWithParam<BadCase> {};
+
+TEST_P(MalformedScene, NamesFileFieldAndExpectation) {
+  const BadCase& c = GetParam();
+  json j = minimal_scene();
+  j[json::json_pointer(c.path)] = json::parse(c.value);
+  EXPECT_THAT(error_of(j), AllOf(HasSubstr("scene.json"), HasSubstr(c.field), HasSubstr(c.expected))) << c.what;
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Cases, MalformedScene,
+    ::testing::Values(
+        BadCase{"unknown top-level field", "/colour", "1", "'colour'", "no such field"},
+        BadCase{"unknown nested field", "/solver/tolerence", "1e-4", "'solver.tolerence'", "known fields here"},
+        BadCase{"negative radius", "/particles/bodies/0/radius", "-0.5", "particles.bodies[0].radius",
+                "positive number"},
+        BadCase{"NaN as text", "/time/dt", "\"nan\"", "'time.dt'", "finite positive number"},
+        BadCase{"p_gap out of range", "/solver/p_gap", "1.5", "'solver.p_gap'", "(0, 1]"},
+        BadCase{"theta out of range", "/solver/theta", "0.2", "'solver.theta'", "[0.5, 1]"},
+        BadCase{"bad vector", "/gravity", "[0, 1]", "'gravity'", "3 finite numbers"},
+        BadCase{"unknown shape", "/particles/bodies/0/shape", "\"cube\"", "particles.bodies[0].shape", "\"sphere\""},
+        BadCase{"bad container type", "/container/type", "\"box\"", "'container.type'", "\"cone\" or \"planes\""},
+        BadCase{"zero normal", "/container/planes/0/normal", "[0, 0, 0]", "container.planes[0].normal",
+                "non-zero"},
+        BadCase{"negative friction", "/materials/friction", "-0.1", "'materials.friction'", ">= 0"},
+        BadCase{"fractional count", "/outputs", "{\"timeseries_every\": 2.5}", "'outputs.timeseries_every'",
+                "an integer"}));
+
+TEST(Scene, MissingRequiredFieldsAreNamed) {
+  json j = minimal_scene();
+  j.erase("time");
+  EXPECT_THAT(error_of(j), AllOf(HasSubstr("'time'"), HasSubstr("required")));
+  j = minimal_scene();
+  j["particles"]["bodies"][0].erase("radius");
+  EXPECT_THAT(error_of(j), AllOf(HasSubstr("particles.bodies[0].radius"), HasSubstr("required")));
+}
+
+TEST(Scene, DegeneratePolyhedronIsRefusedWithItsField) {
+  json j = minimal_scene();
+  j["particles"]["bodies"] = json::array(
+      {{{"shape", "polyhedron"}, {"vertices", {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}}}, {"position", {0, 0, 1}}}});
+  EXPECT_THAT(error_of(j), AllOf(HasSubstr("scene.json"), HasSubstr("particles.bodies[0].vertices")));
+}
+
+TEST(Scene, OverridesSetNestedFieldsAndAreChecked) {
+  json j = minimal_scene();
+  apply_override(j, "solver.p_gap=0.25", "scene.json");
+  apply_override(j, "effects.friction=false", "scene.json");  // a section the scene did not have
+  apply_override(j, "name=renamed", "scene.json");              // not JSON: taken as a string
+  const SceneDef s = build_scene(j, "scene.json");
+  EXPECT_DOUBLE_EQ(s.solver.p_gap, 0.25);
+  EXPECT_FALSE(s.effects.friction);
+  EXPECT_EQ(s.name, "renamed");
+  EXPECT_THROW(apply_override(j, "solver.p_gap", "scene.json"), SceneError);
+  EXPECT_THROW(apply_override(j, "name.x=1", "scene.json"), SceneError);
+}
+
+TEST(Scene, LoadReportsSyntaxErrorsAndMissingFiles) {
+  EXPECT_THROW(load_scene("/nonexistent/scene.json"), SceneError);
+}
+
+}  // namespace
+}  // namespace ratchet
