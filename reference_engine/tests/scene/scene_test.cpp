@@ -118,7 +118,7 @@ TEST_P(MalformedScene, NamesFileFieldAndExpectation) {
 INSTANTIATE_TEST_SUITE_P(
     Cases, MalformedScene,
     ::testing::Values(
-        BadCase{"unknown top-level field", "/colour", "1", "'colour'", "no such field"},
+        BadCase{"unknown top-level field", "/colour", "1", "'colour'", "unknown field"},
         BadCase{"unknown nested field", "/solver/tolerence", "1e-4", "'solver.tolerence'", "known fields here"},
         BadCase{"negative radius", "/particles/bodies/0/radius", "-0.5", "particles.bodies[0].radius",
                 "positive number"},

@@ -128,7 +128,7 @@ TEST(World, SameSceneTwiceGivesIdenticalBytes) {
 TEST(World, ThreadCountDoesNotChangeTheResult) {
   // Enough bodies that the parallel detection loops run (kParallelMin = 256 in world.cpp).
   json j = heap_scene(300);
-  j["particles"]["generate"]["region"] = {{"min", {-2.2, -2.2, 1.2}}, {"max", {2.2, 2.2, 30.0}}};
+  j["particles"]["generate"]["region"] = {{"min", {-2.2, -2.2, 1.2}}, {"max", {2.2, 2.2, 45.0}}};
   j["time"]["duration"] = 0.3;
   const auto one = trajectory(j, 1), two = trajectory(j, 2);
   ASSERT_EQ(one.size(), two.size());

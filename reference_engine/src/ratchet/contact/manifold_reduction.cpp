@@ -1,5 +1,8 @@
 #include "ratchet/contact/manifold_reduction.hpp"
 
+#include <algorithm>
+#include <array>
+#include <cmath>
 #include <limits>
 
 namespace ratchet {

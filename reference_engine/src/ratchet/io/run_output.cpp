@@ -11,7 +11,8 @@ std::string format_double(double x) {
   return buf;
 }
 
-RunOutput::RunOutput(const std::string& dir, const World& world) : dir_(dir) {
+RunOutput::RunOutput(const std::string& dir, const World& world, const RunObservers& observers)
+    : dir_(dir), observers_(observers) {
   std::filesystem::create_directories(dir_);
   std::filesystem::remove(dir_ + "/run.json");  // an old run.json would make this look complete
   timeseries_ = std::make_unique<AtomicFile>(dir_ + "/timeseries.csv");
@@ -20,6 +21,7 @@ RunOutput::RunOutput(const std::string& dir, const World& world) : dir_(dir) {
   ts << "step,t,T,s_p,s_c,kinetic_energy,contacts,iterations,residual,wall_force_side,wall_force_bottom,"
         "wall_force_total,bed_height,pressure";
   for (const char* name : kPhaseNames) ts << ",time_" << name;
+  for (const std::string& name : observers_.extra_columns()) ts << ',' << name;
   ts << "\n";
   bodies_->stream() << "step,t,id,x,y,z,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz,scale\n";
   write_timeseries_row(world);
@@ -36,6 +38,8 @@ void RunOutput::write_timeseries_row(const World& world) {
     << st.iterations << ',' << format_double(st.residual) << ',' << format_double(st.wall_force_side) << ','
     << format_double(st.wall_force_bottom) << ',' << format_double(st.wall_force_total) << ',' << format_double(H) << ',' << format_double(world.pressure());
   for (double t : world.timers().last_step) o << ',' << format_double(t);
+  observers_.extra_values(world, extra_);
+  for (double v : extra_) o << ',' << format_double(v);
   o << '\n';
 }
 

@@ -9,13 +9,14 @@
 #include <nlohmann/json.hpp>
 
 #include "ratchet/io/atomic_file.hpp"
+#include "ratchet/run/observers.hpp"
 #include "ratchet/world/world.hpp"
 
 namespace ratchet {
 
 class RunOutput {
  public:
-  RunOutput(const std::string& dir, const World& world);
+  RunOutput(const std::string& dir, const World& world, const RunObservers& observers);
   void write_timeseries_row(const World& world);
   void write_bodies(const World& world);
   // Renames the CSVs into place and writes run.json with the given summary.
@@ -23,13 +24,15 @@ class RunOutput {
 
  private:
   std::string dir_;
+  const RunObservers& observers_;
   std::unique_ptr<AtomicFile> timeseries_, bodies_;
+  mutable std::vector<double> extra_;
 };
 
 // Run metadata: scene as run, hash, engine version, effects, plan, timings.
 nlohmann::json run_metadata(const World& world);
 
-// Shortest text that reads back to the same double.
+// 17 significant digits (%.17g): always reads back to the same double.
 std::string format_double(double x);
 
 }  // namespace ratchet

@@ -6,6 +6,7 @@
 #include <memory>
 
 #include "ratchet/io/run_output.hpp"
+#include "ratchet/run/observers.hpp"
 
 namespace ratchet {
 
@@ -23,8 +24,9 @@ std::string format_seconds(double s) {
 
 RunResult run_world(World& world, const RunOptions& options, const std::function<void(const World&)>& each_step) {
   const SceneDef& scene = world.scene();
+  RunObservers observers(world, options.out_dir);
   std::unique_ptr<RunOutput> out;
-  if (!options.out_dir.empty()) out = std::make_unique<RunOutput>(options.out_dir, world);
+  if (!options.out_dir.empty()) out = std::make_unique<RunOutput>(options.out_dir, world, observers);
   const auto start = std::chrono::steady_clock::now();
   auto last_print = start;
   const std::int64_t total = scene.steps;
@@ -37,6 +39,7 @@ RunResult run_world(World& world, const RunOptions& options, const std::function
     if (!std::isfinite(ke))
       throw RunError(scene.source + ": the state became non-finite at step " + std::to_string(k) +
                      " (t = " + std::to_string(world.state().t) + "); the time step may be too large");
+    observers.after_step(world);
     if (out) {
       if (k % every_ts == 0 || k == total) out->write_timeseries_row(world);
       if ((every_bodies > 0 && k % every_bodies == 0) || k == total) out->write_bodies(world);
@@ -60,7 +63,8 @@ RunResult run_world(World& world, const RunOptions& options, const std::function
   RunResult r;
   r.steps = world.state().step;
   r.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  if (out) out->finish(world, {{"status", "completed"}, {"wall_seconds", r.wall_seconds}});
+  r.summary = observers.finish(world);
+  if (out) out->finish(world, {{"status", "completed"}, {"wall_seconds", r.wall_seconds}, {"summary", r.summary}});
   return r;
 }
 

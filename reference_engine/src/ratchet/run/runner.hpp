@@ -5,6 +5,8 @@
 #include <functional>
 #include <string>
 
+#include <nlohmann/json.hpp>
+
 #include "ratchet/world/world.hpp"
 
 namespace ratchet {
@@ -17,6 +19,7 @@ struct RunOptions {
 struct RunResult {
   std::int64_t steps = 0;
   double wall_seconds = 0.0;
+  nlohmann::json summary;  // the observers' summary (P_max, V/V0, W_rms ...), also in run.json
 };
 
 // Thrown when the state stops being finite (divergence).

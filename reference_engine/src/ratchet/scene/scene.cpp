@@ -44,7 +44,8 @@ struct Reader {
       if (!known) {
         std::string list;
         for (const char* a : allowed) list += (list.empty() ? "" : ", ") + std::string(a);
-        fail(join(path, it.key()), "no such field (known fields here: " + list + ")");
+        throw SceneError(source + ": field '" + join(path, it.key()) + "': unknown field (known fields here: " +
+                         list + ")");
       }
     }
   }
@@ -157,7 +158,8 @@ void read_thermal(const Reader& r, const json& j, ThermalProtocol& t) {
   // Scales must stay positive over the whole protocol.
   for (double a : {t.alpha_p, t.alpha_c}) {
     if (1.0 + a * (t.T1 - t.T0) <= 0.0)
-      r.fail("thermal.alpha_p/alpha_c", "1 + alpha (T1 - T0) > 0 (a scale factor cannot vanish)");
+      r.fail(a == t.alpha_p ? "thermal.alpha_p" : "thermal.alpha_c",
+             "1 + alpha (T1 - T0) > 0 (a scale factor cannot vanish)");
   }
 }
 
@@ -285,6 +287,8 @@ void read_listed_bodies(const Reader& r, const json& list, SceneDef& s) {
       }
     } catch (const std::invalid_argument& e) {
       throw SceneError(std::string(e.what()));
+    } catch (const std::runtime_error& e) {  // Qhull failures other than bad input
+      throw SceneError(s.source + ": field '" + f + "': " + e.what());
     }
   }
 }
@@ -304,25 +308,33 @@ std::vector<Vec3> lattice_sites(const Reader& r, const SceneDef& s, const json& 
     if (!((hi - lo).minCoeff() > 0.0)) r.fail(f, "min < max in every coordinate", &gen.at("region"));
   } else if (s.container.type == ContainerDef::Type::Cone) {
     in_disk = true;
-    disk_radius = s.container.bottom_radius - 0.5 * spacing;
+    disk_radius = s.container.bottom_radius - 0.5 * spacing - 0.04 * spacing;
     lo = Vec3(-disk_radius, -disk_radius, 0.0);
     hi = Vec3(disk_radius, disk_radius, HUGE_VAL);
   } else {
     r.fail("particles.generate.region", "a region {min, max} (required unless the container is a cone)");
   }
   std::vector<Vec3> sites;
-  const double jitter = 0.05 * spacing;  // breaks the lattice symmetry, keeps sites apart
-  for (int layer = 0; static_cast<int>(sites.size()) < count; ++layer) {
-    const double z = lo.z() + 0.5 * spacing + layer * spacing;
+  // Breaks the lattice symmetry; with spacing >= 2.3 r_max neighbours stay >= 0.92 *
+  // 2.3 r_max = 2.1 r_max apart, which clears bounding radii a few % above r_max.
+  const double jitter = 0.04 * spacing;
+  // Square lattice in x, y: centred on the axis for a cone (sites within disk_radius of
+  // it, so each particle's bounding sphere is inside the bottom polygon), from the
+  // corner for a region box.
+  const Vec3 origin = in_disk ? Vec3(0.0, 0.0, lo.z()) : Vec3(lo.x() + 0.5 * spacing, lo.y() + 0.5 * spacing, lo.z());
+  const int kx_lo = in_disk ? -static_cast<int>(std::floor(disk_radius / spacing)) : 0;
+  const int kx_hi = in_disk ? -kx_lo : static_cast<int>(std::floor((hi.x() - lo.x()) / spacing)) - 1;
+  const int ky_hi = in_disk ? -kx_lo : static_cast<int>(std::floor((hi.y() - lo.y()) / spacing)) - 1;
+  for (int layer = 0; static_cast<int>(sites.size()) < count && layer < 1000000; ++layer) {
+    const double z = origin.z() + 0.5 * spacing + layer * spacing;
     if (z + 0.5 * spacing > hi.z()) break;
-    for (double y = lo.y() + 0.5 * spacing; y + 0.5 * spacing <= hi.y() + 1e-12; y += spacing) {
-      for (double x = lo.x() + 0.5 * spacing; x + 0.5 * spacing <= hi.x() + 1e-12; x += spacing) {
-        if (in_disk && std::hypot(x, y) > disk_radius - 0.5 * spacing) continue;
+    for (int ky = kx_lo; ky <= ky_hi; ++ky)
+      for (int kx = kx_lo; kx <= kx_hi; ++kx) {
+        const double x = origin.x() + kx * spacing, y = origin.y() + ky * spacing;
+        if (in_disk && std::hypot(x, y) > disk_radius) continue;
         if (static_cast<int>(sites.size()) >= count) break;
         sites.emplace_back(x + uniform(rng, -jitter, jitter), y + uniform(rng, -jitter, jitter), z);
       }
-    }
-    if (layer > 100000) break;
   }
   if (static_cast<int>(sites.size()) < count)
     r.fail("particles.generate.count", "at most " + std::to_string(sites.size()) +
@@ -352,8 +364,8 @@ void read_generated(const Reader& r, const json& gen, SceneDef& s, Rng& rng) {
     spec.radius_min = rr[0].get<double>();
     spec.radius_max = rr[1].get<double>();
   }
-  const double spacing = r.number(gen, p, "spacing", 2.2 * spec.radius_max, 2.0 * spec.radius_max, HUGE_VAL,
-                                  false, false, "a lattice spacing >= 2 r_max (sites must not overlap)");
+  const double spacing = r.number(gen, p, "spacing", 2.5 * spec.radius_max, 2.3 * spec.radius_max, HUGE_VAL,
+                                  false, false, "a lattice spacing >= 2.3 r_max (sites must not overlap)");
   // Sites first, then shapes and orientations: the sequence of draws is fixed by the seed.
   const std::vector<Vec3> sites = lattice_sites(r, s, gen, spacing, count, rng);
   for (int i = 0; i < count; ++i) {
@@ -372,6 +384,54 @@ void read_generated(const Reader& r, const json& gen, SceneDef& s, Rng& rng) {
   }
 }
 
+// A list of cycle pairs [[a, b], ...] with 0 <= a < b.
+std::vector<std::pair<int, int>> read_windows(const Reader& r, const json& j, const std::string& f) {
+  const std::string expected = "a list of cycle windows [[a, b], ...] with integers 0 <= a < b";
+  if (!j.is_array() || j.empty()) r.fail(f, expected, &j);
+  std::vector<std::pair<int, int>> out;
+  for (const json& w : j) {
+    if (!w.is_array() || w.size() != 2 || !w[0].is_number_integer() || !w[1].is_number_integer() ||
+        w[0].get<int>() < 0 || w[1].get<int>() <= w[0].get<int>())
+      r.fail(f, expected, &j);
+    out.emplace_back(w[0].get<int>(), w[1].get<int>());
+  }
+  return out;
+}
+
+void read_outputs(const Reader& r, const json& j, SceneDef& s) {
+  const std::string p = "outputs";
+  r.object(j, p, {"timeseries_every", "bodies_every", "volume", "segment_forces", "cycles", "steady_cycles",
+                  "displacement", "wall_profile_bins", "vtk_cycles", "pressure_window"});
+  OutputSettings& o = s.outputs;
+  o.timeseries_every = static_cast<int>(r.integer(j, p, "timeseries_every", 1, 1, 1 << 30));
+  o.bodies_every = static_cast<int>(r.integer(j, p, "bodies_every", 0, 0, 1 << 30));
+  o.volume = r.boolean(j, p, "volume", o.volume);
+  o.segment_forces = r.boolean(j, p, "segment_forces", o.segment_forces);
+  o.cycles = r.boolean(j, p, "cycles", o.cycles);
+  o.wall_profile_bins = static_cast<int>(r.integer(j, p, "wall_profile_bins", 0, 0, 100000));
+  o.pressure_window = r.non_negative(j, p, "pressure_window", o.pressure_window);
+  if (j.contains("steady_cycles")) {
+    const auto w = read_windows(r, json::array({j.at("steady_cycles")}), p + ".steady_cycles");
+    o.steady_first = w[0].first;
+    o.steady_last = w[0].second;
+  }
+  if (j.contains("displacement")) {
+    const std::string f = p + ".displacement";
+    const json& d = j.at("displacement");
+    r.object(d, f, {"cell", "windows"});
+    o.displacement_cell = r.positive(d, f, "cell", 1.0);
+    o.displacement_windows = read_windows(r, r.required(d, f, "windows", "a list of cycle windows"), f + ".windows");
+  }
+  if (j.contains("vtk_cycles")) {
+    const json& v = j.at("vtk_cycles");
+    if (!v.is_array()) r.fail(p + ".vtk_cycles", "a list of cycle indices", &v);
+    for (const json& k : v) {
+      if (!k.is_number_integer() || k.get<int>() < 0) r.fail(p + ".vtk_cycles", "a list of cycle indices >= 0", &v);
+      o.vtk_cycles.push_back(k.get<int>());
+    }
+  }
+}
+
 void read_particles(const Reader& r, const json& j, SceneDef& s) {
   r.object(j, "particles", {"generate", "bodies"});
   Rng rng(s.seed);
@@ -385,12 +445,6 @@ void read_particles(const Reader& r, const json& j, SceneDef& s) {
 }
 
 }  // namespace
-
-bool SceneDef::has_polyhedron_pairs() const {
-  int n = 0;
-  for (const BodyDef& b : bodies) n += b.kind == ShapeKind::Polyhedron ? 1 : 0;
-  return n >= 2;
-}
 
 std::string fnv1a_hex(const std::string& bytes) {
   std::uint64_t h = 1469598103934665603ull;  // FNV-1a 64-bit offset basis
@@ -438,11 +492,7 @@ SceneDef build_scene(const json& j, const std::string& source) {
   if (j.contains("materials")) read_materials(r, j.at("materials"), s.materials);
   if (j.contains("thermal")) read_thermal(r, j.at("thermal"), s.thermal);
   if (j.contains("container")) read_container(r, j.at("container"), s.container);
-  if (j.contains("outputs")) {
-    r.object(j.at("outputs"), "outputs", {"timeseries_every", "bodies_every"});
-    s.outputs.timeseries_every = static_cast<int>(r.integer(j.at("outputs"), "outputs", "timeseries_every", 1, 1, 1 << 30));
-    s.outputs.bodies_every = static_cast<int>(r.integer(j.at("outputs"), "outputs", "bodies_every", 0, 0, 1 << 30));
-  }
+  if (j.contains("outputs")) read_outputs(r, j.at("outputs"), s);
   const json& time = r.required(j, "", "time", "an object {dt, duration}");
   r.object(time, "time", {"dt", "duration"});
   s.dt = r.positive(time, "time", "dt", s.dt);
@@ -454,7 +504,7 @@ SceneDef build_scene(const json& j, const std::string& source) {
     r.fail("time.duration", "a positive duration (or a thermal protocol with cycles to derive it from)");
   }
   s.steps = static_cast<std::int64_t>(std::llround(s.duration / s.dt));
-  if (s.steps < 1) r.fail("time.duration", "at least one time step (duration >= dt)", &time.at("duration"));
+  if (s.steps < 1) r.fail("time.duration", "at least one time step (duration >= dt / 2)", &time.at("duration"));
   read_particles(r, r.required(j, "", "particles", "an object {generate and/or bodies}"), s);
   s.as_run = j;
   s.hash = fnv1a_hex(j.dump());

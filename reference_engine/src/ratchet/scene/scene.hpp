@@ -85,9 +85,20 @@ struct BodyDef {
   double bounding_radius = 0.0;   // at scale 1
 };
 
+// What a run records beyond the always-present timeseries (design.md s. 5). Each
+// observable is computed only when asked for.
 struct OutputSettings {
   int timeseries_every = 1;  // steps between rows of timeseries.csv
   int bodies_every = 0;      // steps between snapshots in bodies.csv; 0: first and last only
+  bool volume = false;       // V/V0 column: convex hull of all particle vertices (Qhull)
+  bool segment_forces = false;  // wall_force_seg_<k> columns, one per side segment
+  bool cycles = true;        // cycles.csv: one row per thermal cycle (thermal scenes only)
+  int steady_first = -1, steady_last = -1;  // cycles averaged into P_max; -1: second half
+  double displacement_cell = 0.0;           // > 0: displacement and vorticity fields
+  std::vector<std::pair<int, int>> displacement_windows;  // cycle windows [a, b]
+  int wall_profile_bins = 0;  // > 0: wall_profile.csv, averaged over the cold hold of every cycle
+  double pressure_window = 0.5;  // time units: block average of P(t) for the per-cycle peaks
+  std::vector<int> vtk_cycles;  // VTK at the ends of heating and cooling of these cycles
 };
 
 struct SceneDef {
@@ -106,10 +117,8 @@ struct SceneDef {
   OutputSettings outputs;
   std::vector<ConvexPolyhedron> shapes;
   std::vector<BodyDef> bodies;
-  nlohmann::json as_run;     // the scene JSON after --set overrides, defaults filled in
+  nlohmann::json as_run;     // the scene JSON as run: the file after --set overrides
   std::string hash;          // FNV-1a 64 of as_run.dump(), hex
-
-  bool has_polyhedron_pairs() const;
 };
 
 // Thrown for any malformed scene: the message names the file, the field and what was

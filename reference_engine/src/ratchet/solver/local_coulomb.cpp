@@ -59,8 +59,9 @@ LocalSolution solve_local_coulomb(const Mat3& W, const Vec3& w, double mu) {
   Eigen::Vector2d d = lt > 0.0 ? Eigen::Vector2d(stick[1] / lt, stick[2] / lt)
                                : Eigen::Vector2d(-w[1], -w[2]).normalized();
   if (!d.allFinite()) d = Eigen::Vector2d(1.0, 0.0);
+  const Eigen::Vector2d d0 = d;  // the stick trial direction
   constexpr double kDirTol = 1e-13;  // direction converged to near round-off
-  for (int it = 0; it < 60; ++it) {
+  for (int it = 0; it < 20; ++it) {
     const SlideTrial s = slide_trial(W, w, mu, d);
     if (!s.valid) break;
     const double un = s.u_t.norm();
@@ -73,18 +74,46 @@ LocalSolution solve_local_coulomb(const Mat3& W, const Vec3& w, double mu) {
     }
     d = d_next;
   }
+  // Newton on the angle of d, from the stick trial direction (derivative by a
+  // central difference: f is smooth in the angle away from poles of lambda_n). Converges
+  // in a few steps where the fixed point is not contractive (u_t small against the
+  // coupling mu W_tt near the stick boundary).
+  auto dir = [](double a) { return Eigen::Vector2d(std::cos(a), std::sin(a)); };
+  auto residual_at = [&](double a) {
+    const Eigen::Vector2d da = dir(a);
+    return slide_residual(slide_trial(W, w, mu, da), da);
+  };
+  auto admissible_at = [&](double a) {
+    const Eigen::Vector2d da = dir(a);
+    const SlideTrial t = slide_trial(W, w, mu, da);
+    return t.valid && t.lambda_n >= 0.0 && t.u_t.dot(da) < 0.0 && t.u_t.norm() > 0.0 &&
+           std::abs(slide_residual(t, da)) < 1e-9;
+  };
+  {
+    double a = std::atan2(d0.y(), d0.x());  // the stick trial direction: the solution is near
+    for (int it = 0; it < 30; ++it) {
+      const double f = residual_at(a);
+      if (std::abs(f) < 1e-14) break;
+      constexpr double kStep = 1e-7;  // central difference: error ~kStep^2 relative
+      const double df = (residual_at(a + kStep) - residual_at(a - kStep)) / (2.0 * kStep);
+      if (!(std::abs(df) > 1e-300)) break;
+      double da = -f / df;
+      if (std::abs(da) > 0.5) da = da > 0.0 ? 0.5 : -0.5;  // stay in the basin
+      a += da;
+    }
+    if (admissible_at(a)) {
+      const Eigen::Vector2d da = dir(a);
+      const SlideTrial f = slide_trial(W, w, mu, da);
+      sol.lambda = Vec3(f.lambda_n, mu * f.lambda_n * da.x(), mu * f.lambda_n * da.y());
+      return sol;
+    }
+  }
   // Fallback for strongly coupled W: scan the angle of d for sign changes of the
   // residual, bisect each to machine precision, and keep the admissible roots
   // (lambda_n >= 0, u_t . d < 0). Several may exist when mu is large (the local problem
   // is not unique then); take the one nearest the stick trial direction, so the choice
   // is deterministic and continuous with the stick branch.
   constexpr int kSamples = 256;
-  const Eigen::Vector2d d0 = d;
-  auto dir = [](double a) { return Eigen::Vector2d(std::cos(a), std::sin(a)); };
-  auto residual_at = [&](double a) {
-    const Eigen::Vector2d da = dir(a);
-    return slide_residual(slide_trial(W, w, mu, da), da);
-  };
   bool found = false;
   double best_angle = 0.0, best_score = -HUGE_VAL;
   double a0 = 0.0, r0 = residual_at(a0);

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "ratchet/contact/broad_phase.hpp"
+#include "ratchet/contact/common_plane.hpp"
 #include "ratchet/contact/contact_point.hpp"
 #include "ratchet/scene/scene.hpp"
 #include "ratchet/thermal/thermal_protocol.hpp"
@@ -37,6 +38,7 @@ struct StepScratch {
   std::vector<double> radii;       // current bounding radii
   std::vector<BodyPair> pairs;
   std::vector<ContactManifold> pair_manifolds;
+  std::vector<CommonPlaneCache> pair_planes;    // per candidate pair (polyhedron pairs only)
   std::vector<ContactManifold> wall_manifolds;  // body-major, wall-minor
   std::vector<SolverContact> contacts;
 };

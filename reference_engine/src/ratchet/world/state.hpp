@@ -1,12 +1,13 @@
 // The mutable state of a run: everything that carries from one step to the next
 // (poses, velocities, scales, the impulses and common planes kept for warm starting).
-// A snapshot of State plus the SceneDef restarts a run exactly.
+// State plus the SceneDef is all a restart would need (there is no restart command yet).
 #pragma once
 
 #include <cstdint>
 #include <tuple>
 #include <vector>
 
+#include "ratchet/contact/common_plane.hpp"
 #include "ratchet/core/types.hpp"
 
 namespace ratchet {
@@ -28,6 +29,13 @@ struct KeptImpulse {
   Vec3 impulse = Vec3::Zero();  // world frame, on A
 };
 
+// The common plane of a polyhedron pair, kept to warm-start the next step's search
+// (design.md s. 4).
+struct KeptPlane {
+  int a = 0, b = 0;
+  CommonPlaneCache cache;
+};
+
 struct State {
   std::int64_t step = 0;
   double t = 0.0;
@@ -37,6 +45,7 @@ struct State {
   std::vector<Vec3> x, v, w;  // centre of mass, velocity, angular velocity (world)
   std::vector<Quat> q;        // orientation, body -> world
   std::vector<KeptImpulse> impulses;  // sorted by key
+  std::vector<KeptPlane> planes;      // sorted by (a, b)
 };
 
 }  // namespace ratchet

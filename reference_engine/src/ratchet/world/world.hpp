@@ -58,7 +58,7 @@ class World {
   double wetted_side_area(double height) const;  // cone side walls from z = 0 to height
   double pressure() const;              // wall_force_side / wetted side area (cone only)
   Vec3 wall_point(int wall) const;      // current point of a wall (container scale)
-  double body_scale(int i) const;       // thermal scale of body i (1 for fixed bodies? no: all particles)
+  double body_scale(int i) const;       // thermal scale of body i: s_p, or 1 for a fixed body
 
  private:
   void free_velocity();

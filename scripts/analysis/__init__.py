@@ -1,0 +1,12 @@
+"""Trend analysis of the paper's parameter sweeps (scripts/trends; docs/trends.md).
+
+Modules:
+- inputs: reading a sweep folder (summary.csv, runs/<run>/ files)
+- fits:   least-squares fits, group statistics, ratio of means with its uncertainty
+- trends: the check definitions (one table, per tier) and their evaluation
+- plots:  figures mirroring the paper's, saved in OUT/figures/
+- output: JSONL check lines, trends.json, trends.md, the terminal table
+- cli:    the command line of scripts/trends
+
+Run with Debian's interpreter, /usr/bin/python3.
+"""

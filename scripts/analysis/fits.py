@@ -1,0 +1,253 @@
+"""Least-squares fits, group statistics over realizations and the ratio of two means.
+
+Everything numerical goes through library routines: the polynomial fits use
+scipy.optimize.curve_fit (with the exact Jacobian of the polynomial model, started
+from numpy.polynomial.polynomial.polyfit), the statistics use numpy/pandas.
+
+Conventions (docs/trends.md, "Fit formulas"):
+
+- A polynomial of degree d is y = c0 + c1 x + ... + cd x^d; coefficients are stored
+  in ascending order (``coef[1]`` is the slope of a linear fit).
+- Unweighted fit (sigma=None): minimises sum (y - f(x))^2; the covariance is
+  scaled by the residual variance s^2 = SS_res / (n - d - 1), so standard errors
+  come from the scatter of the data about the fit.
+- Weighted fit (sigma given): minimises sum ((y - f(x)) / sigma)^2. With
+  absolute_sigma=False only the relative weights count (covariance scaled by the
+  reduced chi^2, as unweighted); with absolute_sigma=True sigma is taken as the true
+  one-standard-deviation error of each y and the covariance is not rescaled.
+- R^2 = 1 - SS_res / SS_tot with SS_res = sum w (y - f)^2 and
+  SS_tot = sum w (y - ybar_w)^2, w = 1/sigma^2 (w = 1 unweighted), ybar_w the
+  weighted mean. NaN when SS_tot = 0 (constant data).
+- With n = d + 1 points the fit interpolates (dof = 0): the coefficients are exact
+  but, without absolute sigma, no standard error exists (NaN).
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+from dataclasses import dataclass
+from typing import Sequence
+
+import numpy as np
+import pandas as pd
+from numpy.polynomial import polynomial as _poly
+from scipy.optimize import OptimizeWarning, curve_fit
+
+
+class FitError(ValueError):
+    """Too few (distinct, finite) points for the requested fit."""
+
+
+def _model(x, *coef):
+    return _poly.polyval(x, coef)
+
+
+def _jacobian(x, *coef):
+    # d f / d c_k = x^k: the Vandermonde matrix, columns in ascending powers.
+    return _poly.polyvander(np.asarray(x, dtype=float), len(coef) - 1)
+
+
+@dataclass
+class FitResult:
+    """A polynomial least-squares fit (coefficients ascending: c0, c1, ...)."""
+
+    degree: int
+    coef: np.ndarray
+    se: np.ndarray
+    cov: np.ndarray
+    r2: float
+    n: int
+    dof: int
+    weighted: bool
+    absolute_sigma: bool
+    ss_res: float
+    x_min: float
+    x_max: float
+
+    @property
+    def slope(self) -> float:
+        """c1: the slope of a linear fit (the linear coefficient in general)."""
+        return float(self.coef[1])
+
+    @property
+    def slope_se(self) -> float:
+        return float(self.se[1])
+
+    def predict(self, x) -> np.ndarray:
+        return _model(np.asarray(x, dtype=float), *self.coef)
+
+    def curve(self, points: int = 101, x_min: float | None = None,
+              x_max: float | None = None) -> tuple[np.ndarray, np.ndarray]:
+        """The fitted curve sampled on [x_min, x_max] (default: the data range)."""
+        lo = self.x_min if x_min is None else x_min
+        hi = self.x_max if x_max is None else x_max
+        xs = np.linspace(lo, hi, points)
+        return xs, self.predict(xs)
+
+    def formula(self, x: str = "x", digits: int = 4) -> str:
+        terms = []
+        for power, (c, s) in enumerate(zip(self.coef, self.se)):
+            err = f" +- {s:.{digits}g}" if math.isfinite(s) else ""
+            var = "" if power == 0 else (f" {x}" if power == 1 else f" {x}^{power}")
+            terms.append(f"({c:.{digits}g}{err}){var}")
+        return " + ".join(terms)
+
+    def to_dict(self, curve_points: int = 51) -> dict:
+        xs, ys = self.curve(curve_points)
+        return {
+            "degree": self.degree,
+            "coefficients": [float(c) for c in self.coef],
+            "standard_errors": [float(s) for s in self.se],
+            "covariance": [[float(v) for v in row] for row in self.cov],
+            "coefficient_order": "ascending: c0 + c1 x + c2 x^2",
+            "r2": float(self.r2),
+            "n": self.n,
+            "dof": self.dof,
+            "weighted": self.weighted,
+            "absolute_sigma": self.absolute_sigma,
+            "ss_res": float(self.ss_res),
+            "x_range": [float(self.x_min), float(self.x_max)],
+            "curve": {"x": [float(v) for v in xs], "y": [float(v) for v in ys]},
+        }
+
+
+def _clean(x, y, sigma):
+    x = np.asarray(x, dtype=float).ravel()
+    y = np.asarray(y, dtype=float).ravel()
+    if x.shape != y.shape:
+        raise ValueError(f"x and y differ in length ({x.size} and {y.size})")
+    keep = np.isfinite(x) & np.isfinite(y)
+    if sigma is not None:
+        sigma = np.asarray(sigma, dtype=float).ravel()
+        if sigma.shape != x.shape:
+            raise ValueError(f"sigma has {sigma.size} values for {x.size} points")
+        keep &= np.isfinite(sigma) & (sigma > 0)
+        sigma = sigma[keep]
+    return x[keep], y[keep], sigma
+
+
+def polyfit(x: Sequence[float], y: Sequence[float], degree: int,
+            sigma: Sequence[float] | None = None, absolute_sigma: bool = False) -> FitResult:
+    """Least-squares polynomial fit of the given degree (1 linear, 2 quadratic).
+
+    Points with a non-finite x, y (or a non-finite or non-positive sigma) are
+    dropped. Raises FitError when fewer than degree + 1 distinct x remain.
+    """
+    if degree < 0:
+        raise ValueError("degree must be >= 0")
+    x, y, sigma = _clean(x, y, sigma)
+    n_params = degree + 1
+    distinct = np.unique(x).size
+    if distinct < n_params:
+        raise FitError(f"a degree-{degree} fit needs {n_params} distinct x values, "
+                       f"got {distinct} (from {x.size} finite points)")
+    weights = None if sigma is None else 1.0 / sigma
+    p0 = _poly.polyfit(x, y, degree, w=weights)  # starting point: the exact solution
+    with warnings.catch_warnings():
+        # dof = 0 makes curve_fit warn that the covariance cannot be estimated.
+        warnings.simplefilter("ignore", OptimizeWarning)
+        coef, cov = curve_fit(_model, x, y, p0=p0, sigma=sigma, absolute_sigma=absolute_sigma,
+                              jac=_jacobian, method="lm")
+    cov = np.atleast_2d(np.asarray(cov, dtype=float))
+    dof = x.size - n_params
+    if dof == 0 and not (absolute_sigma and sigma is not None):
+        cov = np.full((n_params, n_params), np.nan)
+    cov[~np.isfinite(cov)] = np.nan
+    se = np.sqrt(np.clip(np.diag(cov), 0.0, None))
+    w = np.ones_like(y) if sigma is None else 1.0 / sigma ** 2
+    residual = y - _model(x, *coef)
+    ss_res = float(np.sum(w * residual ** 2))
+    y_bar = float(np.sum(w * y) / np.sum(w))
+    ss_tot = float(np.sum(w * (y - y_bar) ** 2))
+    if ss_tot > 0:
+        r2 = 1.0 - ss_res / ss_tot
+    else:
+        r2 = math.nan
+    return FitResult(degree=degree, coef=np.asarray(coef, dtype=float), se=se, cov=cov,
+                     r2=r2, n=int(x.size), dof=int(dof), weighted=sigma is not None,
+                     absolute_sigma=bool(absolute_sigma and sigma is not None),
+                     ss_res=ss_res, x_min=float(x.min()), x_max=float(x.max()))
+
+
+def linear_fit(x, y, sigma=None, absolute_sigma=False) -> FitResult:
+    return polyfit(x, y, 1, sigma, absolute_sigma)
+
+
+def quadratic_fit(x, y, sigma=None, absolute_sigma=False) -> FitResult:
+    return polyfit(x, y, 2, sigma, absolute_sigma)
+
+
+def try_fit(x, y, degree, sigma=None, absolute_sigma=False) -> tuple[FitResult | None, str]:
+    """polyfit, or (None, why) when there are too few points."""
+    try:
+        return polyfit(x, y, degree, sigma, absolute_sigma), ""
+    except FitError as error:
+        return None, str(error)
+
+
+# --------------------------------------------------------------------------- groups
+
+
+def group_stats(frame: pd.DataFrame, by: str, value: str) -> pd.DataFrame:
+    """Mean, standard deviation and standard error of `value` per value of `by`.
+
+    Rows with a non-finite `value` are left out. Columns: x, n, mean, std (sample
+    standard deviation, ddof = 1; NaN for n = 1), sem = std / sqrt(n) (NaN for n = 1).
+    Sorted by x.
+    """
+    data = frame[[by, value]].copy()
+    data[value] = pd.to_numeric(data[value], errors="coerce")
+    data = data[np.isfinite(data[value].to_numpy(dtype=float))]
+    grouped = data.groupby(by, sort=True)[value]
+    out = pd.DataFrame({
+        "x": grouped.mean().index.to_numpy(dtype=float),
+        "n": grouped.count().to_numpy(dtype=int),
+        "mean": grouped.mean().to_numpy(dtype=float),
+        "std": grouped.std(ddof=1).to_numpy(dtype=float),
+    })
+    out["sem"] = out["std"] / np.sqrt(out["n"])
+    return out.reset_index(drop=True)
+
+
+def mean_sem(values: Sequence[float]) -> tuple[float, float, float, int]:
+    """(mean, std with ddof=1, sem, n) of the finite values; NaNs where undefined."""
+    v = np.asarray(values, dtype=float)
+    v = v[np.isfinite(v)]
+    n = int(v.size)
+    if n == 0:
+        return math.nan, math.nan, math.nan, 0
+    mean = float(np.mean(v))
+    if n < 2:
+        return mean, math.nan, math.nan, n
+    std = float(np.std(v, ddof=1))
+    return mean, std, std / math.sqrt(n), n
+
+
+def ratio_of_means(numerator: Sequence[float], denominator: Sequence[float]) -> dict:
+    """R = mean(numerator) / mean(denominator) with first-order error propagation.
+
+    sigma_R = |R| * sqrt((sem_num / mean_num)^2 + (sem_den / mean_den)^2), with
+    sem = sample standard deviation / sqrt(n) of each group's realizations. This is
+    the delta method for a ratio of two independent means (the realizations of the
+    two parameter points are different runs), valid when each sem is small against
+    its mean. NaN when a group has fewer than two realizations.
+    """
+    m_num, s_num, e_num, n_num = mean_sem(numerator)
+    m_den, s_den, e_den, n_den = mean_sem(denominator)
+    if n_num == 0 or n_den == 0 or m_den == 0:
+        ratio = math.nan
+    else:
+        ratio = m_num / m_den
+    if math.isfinite(ratio) and math.isfinite(e_num) and math.isfinite(e_den):
+        # |R| sqrt((e_a/m_a)^2 + (e_b/m_b)^2), written so that m_a = 0 is allowed.
+        sigma = math.sqrt(e_num ** 2 + (ratio * e_den) ** 2) / abs(m_den)
+    else:
+        sigma = math.nan
+    return {
+        "ratio": ratio, "sigma": sigma,
+        "numerator": {"mean": m_num, "std": s_num, "sem": e_num, "n": n_num},
+        "denominator": {"mean": m_den, "std": s_den, "sem": e_den, "n": n_den},
+        "propagation": "first order (delta method), independent groups: "
+                       "sigma_R = |R| sqrt((sem_a/mean_a)^2 + (sem_b/mean_b)^2)",
+    }

@@ -1,0 +1,267 @@
+"""Reading a sweep folder: summary.csv, and the optional per-run files in runs/<run>/.
+
+The contract (docs/trends.md, "Input files"):
+
+- SWEEP/summary.csv: one row per run. Required columns: ``run``, ``P_max``.
+  Used when present: ``status`` ("completed" or "failed"; absent: every row counts
+  as completed), ``seed``, ``P_max_std``, ``V_over_V0_end``, ``thermal.alpha_p``,
+  the swept parameter columns ``container.opening_angle_deg`` and
+  ``thermal.alpha_c``, and ``W_rms_<a>_<b>`` (vorticity window of cycles a..b).
+- SWEEP/runs/<run>/timeseries.csv: ``t`` with ``pressure``, ``T``, ``V_over_V0``.
+- SWEEP/runs/<run>/cycles.csv: ``cycle``, ``peak_pressure``, ``t_peak``,
+  ``V_over_V0_end_cooling``, ``V_over_V0_end_heating``.
+- SWEEP/runs/<run>/displacement_<a>_<b>.csv: ir, iz, r, z, ur, uz, count, w.
+
+Every per-run file is optional; readers return None and the caller notes why.
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+ANGLE = "container.opening_angle_deg"
+ALPHA_C = "thermal.alpha_c"
+ALPHA_P = "thermal.alpha_p"
+#: Name of the derived column alpha_c / alpha_p.
+RATIO = "alpha_c/alpha_p"
+REQUIRED = ("run", "P_max")
+METRICS = {"run", "seed", "P_max", "P_max_std", "V_over_V0_end", "cycles", "wall_seconds",
+           "status", RATIO}
+W_RMS = re.compile(r"^W_rms_(\d+)_(\d+)$")
+DISPLACEMENT = re.compile(r"^displacement_(\d+)_(\d+)\.csv$")
+#: Parameter values are grouped after rounding to this many decimals, so that
+#: 1e-3/1e-4 = 9.999999999999998 and 10 are one point.
+GROUP_DECIMALS = 9
+
+
+class InputError(Exception):
+    """A sweep folder that cannot be read under the contract."""
+
+
+@dataclass(frozen=True)
+class Window:
+    """A vorticity window of cycles first..last, with its summary.csv column."""
+
+    first: int
+    last: int
+    column: str
+
+    @property
+    def label(self) -> str:
+        return f"cycles {self.first}-{self.last}"
+
+    @property
+    def tag(self) -> str:
+        return f"{self.first}_{self.last}"
+
+
+@dataclass
+class Sweep:
+    folder: Path
+    name: str
+    summary: pd.DataFrame          # every row, with the derived RATIO column when possible
+    completed: pd.DataFrame        # rows with status == "completed"
+    kinds: list[str]               # "angle" and/or "ratio"
+    parameters: list[str]          # swept parameter columns (dotted scene paths)
+    windows: list[Window]
+    notes: list[str] = field(default_factory=list)
+
+    @property
+    def failed_runs(self) -> list[int]:
+        return [int(r) for r in self.summary.loc[~self.summary.index.isin(self.completed.index), "run"]]
+
+
+def _numeric(frame: pd.DataFrame, column: str) -> None:
+    if column in frame.columns:
+        frame[column] = pd.to_numeric(frame[column], errors="coerce")
+
+
+def load_sweep(folder: str | Path) -> Sweep:
+    """Reads SWEEP/summary.csv and recognizes the kind of sweep.
+
+    An angle sweep has a ``container.opening_angle_deg`` column, a ratio sweep a
+    ``thermal.alpha_c`` column (summary.csv has a column only for swept parameters);
+    a grid has both, each with more than one value (with both columns and one of
+    them single-valued, that one is a fixed parameter of the other sweep). Raises InputError for a missing or unreadable summary, or a
+    missing required column.
+    """
+    folder = Path(folder)
+    path = folder / "summary.csv"
+    if not path.is_file():
+        raise InputError(f"{path}: not found (expected the summary.csv of a sweep)")
+    try:
+        summary = pd.read_csv(path)
+    except (OSError, ValueError, pd.errors.ParserError) as error:
+        raise InputError(f"{path}: cannot be read as CSV ({error})") from None
+    missing = [c for c in REQUIRED if c not in summary.columns]
+    if missing:
+        raise InputError(f"{path}: missing column(s) {', '.join(missing)}")
+    notes: list[str] = []
+    for column in summary.columns:
+        if column not in ("status",):
+            _numeric(summary, column)
+    if summary["run"].isna().any():
+        raise InputError(f"{path}: column 'run' has a value that is not an integer")
+    summary["run"] = summary["run"].astype(int)
+    if ANGLE in summary.columns:
+        summary[ANGLE] = summary[ANGLE].round(GROUP_DECIMALS)
+    if ALPHA_C in summary.columns:
+        if ALPHA_P in summary.columns:
+            summary[RATIO] = (summary[ALPHA_C] / summary[ALPHA_P]).round(GROUP_DECIMALS)
+        else:
+            notes.append(f"{ALPHA_C} is swept but {ALPHA_P} is missing: the ratio "
+                         "alpha_c/alpha_p cannot be formed")
+    if "status" in summary.columns:
+        status = summary["status"].astype(str).str.strip().str.lower()
+        completed = summary[status == "completed"].copy()
+    else:
+        notes.append("summary.csv has no 'status' column: every run is taken as completed")
+        completed = summary.copy()
+    if "seed" not in summary.columns:
+        notes.append("summary.csv has no 'seed' column: the first realization is the lowest run id")
+    failed = len(summary) - len(completed)
+    if failed:
+        runs = ", ".join(str(r) for r in summary.loc[~summary.index.isin(completed.index), "run"])
+        notes.append(f"{failed} of {len(summary)} runs did not complete and are left out (run {runs})")
+
+    kinds = []
+    if ANGLE in summary.columns:
+        kinds.append("angle")
+    if ALPHA_C in summary.columns and RATIO in summary.columns:
+        kinds.append("ratio")
+    if len(kinds) == 2:
+        # Both columns, but one holds a single value: a fixed parameter of the other sweep.
+        single = [k for k, c in (("angle", ANGLE), ("ratio", RATIO))
+                  if summary[c].dropna().nunique() < 2]
+        if len(single) == 1:
+            kinds.remove(single[0])
+    parameters = [c for c in summary.columns if c not in METRICS and not W_RMS.match(c)]
+    windows = []
+    for column in summary.columns:
+        match = W_RMS.match(column)
+        if match:
+            windows.append(Window(int(match.group(1)), int(match.group(2)), column))
+    windows.sort(key=lambda w: (w.first, w.last))
+    return Sweep(folder=folder, name=folder.resolve().name or "sweep", summary=summary,
+                 completed=completed, kinds=kinds, parameters=parameters, windows=windows,
+                 notes=notes)
+
+
+# --------------------------------------------------------------------------- per run
+
+
+def run_dir(sweep_folder: Path, run: int) -> Path | None:
+    """SWEEP/runs/<run>, or a folder there whose name is the run id zero-padded."""
+    runs = Path(sweep_folder) / "runs"
+    direct = runs / str(int(run))
+    if direct.is_dir():
+        return direct
+    if runs.is_dir():
+        for candidate in sorted(runs.iterdir()):
+            if candidate.is_dir() and candidate.name.isdigit() and int(candidate.name) == int(run):
+                return candidate
+    return None
+
+
+def read_csv_columns(path: Path, wanted: tuple[str, ...]) -> pd.DataFrame | None:
+    """The wanted columns that exist in the CSV (others skipped); None if unreadable."""
+    if not path.is_file():
+        return None
+    try:
+        header = pd.read_csv(path, nrows=0).columns
+        use = [c for c in wanted if c in header]
+        if not use:
+            return pd.DataFrame()
+        frame = pd.read_csv(path, usecols=use)
+    except (OSError, ValueError, pd.errors.ParserError, pd.errors.EmptyDataError):
+        return None
+    for column in frame.columns:
+        frame[column] = pd.to_numeric(frame[column], errors="coerce")
+    return frame
+
+
+def read_timeseries(folder: Path) -> pd.DataFrame | None:
+    return read_csv_columns(folder / "timeseries.csv", ("t", "T", "pressure", "bed_height", "V_over_V0"))
+
+
+def read_cycles(folder: Path) -> pd.DataFrame | None:
+    return read_csv_columns(folder / "cycles.csv", ("cycle", "peak_pressure", "t_peak",
+                                                   "V_over_V0_end_heating", "V_over_V0_end_cooling"))
+
+
+def displacement_files(folder: Path) -> list[tuple[int, int, Path]]:
+    """(first, last, path) of every displacement_<a>_<b>.csv, sorted by window."""
+    if folder is None or not folder.is_dir():
+        return []
+    found = []
+    for path in folder.iterdir():
+        match = DISPLACEMENT.match(path.name)
+        if match and path.is_file():
+            found.append((int(match.group(1)), int(match.group(2)), path))
+    return sorted(found)
+
+
+def read_displacement(path: Path) -> pd.DataFrame | None:
+    frame = read_csv_columns(path, ("ir", "iz", "r", "z", "ur", "uz", "count", "w"))
+    if frame is None or not {"r", "z", "ur", "uz"}.issubset(frame.columns):
+        return None
+    return frame
+
+
+def end_of_cycle_volumes(folder: Path | None) -> tuple[np.ndarray | None, str]:
+    """V/V0 before cycling (1 by definition) and at the end of each cycle.
+
+    Source, in this order: cycles.csv ``V_over_V0_end_cooling`` (the bed back at T0,
+    comparable with V0); else timeseries.csv ``V_over_V0`` and ``T``: the last value
+    of each cold hold (T within 1 % of the temperature range above its minimum)
+    after the first. Returns (values, source) or (None, why not).
+    """
+    if folder is None:
+        return None, "no run folder"
+    cycles = read_cycles(folder)
+    if cycles is not None and "V_over_V0_end_cooling" in cycles.columns:
+        order = cycles.sort_values("cycle") if "cycle" in cycles.columns else cycles
+        values = order["V_over_V0_end_cooling"].to_numpy(dtype=float)
+        values = values[np.isfinite(values)]
+        if values.size:
+            return np.concatenate([[1.0], values]), "cycles.csv V_over_V0_end_cooling"
+    series = read_timeseries(folder)
+    if series is None:
+        return None, "no cycles.csv with V_over_V0_end_cooling and no timeseries.csv"
+    if not {"V_over_V0", "T"}.issubset(series.columns):
+        return None, "no V_over_V0_end_cooling in cycles.csv and no V_over_V0 and T in timeseries.csv"
+    series = series.dropna(subset=["V_over_V0", "T"])
+    if series.empty:
+        return None, "timeseries.csv has no finite V_over_V0"
+    temperature = series["T"].to_numpy(dtype=float)
+    span = float(temperature.max() - temperature.min())
+    if span <= 0:
+        return None, "timeseries.csv: the temperature never changes (no thermal cycle)"
+    cold = temperature <= temperature.min() + 0.01 * span
+    volume = series["V_over_V0"].to_numpy(dtype=float)
+    ends = []
+    block_start = None
+    for i, is_cold in enumerate(cold):
+        if is_cold and block_start is None:
+            block_start = i
+        if block_start is not None and (not is_cold or i == len(cold) - 1):
+            last = i if is_cold else i - 1
+            ends.append((block_start, last))
+            block_start = None
+    if not ends:
+        return None, "timeseries.csv: no cold hold found"
+    values = [volume[0]] + [volume[last] for first, last in ends if first > 0]
+    return np.asarray(values, dtype=float), "timeseries.csv V_over_V0 at the end of each cold hold"
+
+
+def first_realizations(frame: pd.DataFrame, column: str) -> pd.DataFrame:
+    """One row per value of `column`: the completed run with the lowest seed (then run)."""
+    keys = [k for k in ("seed", "run") if k in frame.columns]
+    ordered = frame.sort_values([column] + keys, kind="stable")
+    return ordered.groupby(column, sort=True).head(1).reset_index(drop=True)
+

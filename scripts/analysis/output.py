@@ -1,0 +1,238 @@
+"""Writing the results: check lines (JSONL), trends.json, trends.md, the terminal table.
+
+Every file is written atomically through scripts/report.py's write_atomic (a
+temporary file in the same folder, then a rename), so a reader never sees a partial
+file and the project has one implementation of it.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import importlib.util
+import json
+import math
+import os
+import re
+import sys
+from pathlib import Path
+from typing import Iterable
+
+import numpy as np
+import pandas as pd
+
+SCRIPTS_DIR = Path(__file__).resolve().parent.parent
+_REPORT_NAME = "ratchet_report"
+
+
+def report_module():
+    """scripts/report.py as a module (write_atomic, save_figure, find_figures)."""
+    module = sys.modules.get(_REPORT_NAME)
+    if module is None:
+        spec = importlib.util.spec_from_file_location(_REPORT_NAME, SCRIPTS_DIR / "report.py")
+        module = importlib.util.module_from_spec(spec)
+        sys.modules[_REPORT_NAME] = module
+        spec.loader.exec_module(module)
+    return module
+
+
+def write_atomic(path: str | os.PathLike, content: str | bytes) -> None:
+    report_module().write_atomic(path, content)
+
+
+def slug(text: str) -> str:
+    return re.sub(r"[^A-Za-z0-9]+", "-", text).strip("-").lower() or "sweep"
+
+
+# --------------------------------------------------------------------------- JSON
+
+
+def plain(value):
+    """A JSON-ready copy: numpy scalars to Python, NaN/Inf to None, frames to records."""
+    if isinstance(value, dict):
+        return {str(k): plain(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [plain(v) for v in value]
+    if isinstance(value, np.ndarray):
+        return [plain(v) for v in value.tolist()]
+    if isinstance(value, pd.DataFrame):
+        return [plain(r) for r in value.to_dict(orient="records")]
+    if isinstance(value, (np.bool_, bool)):
+        return bool(value)
+    if isinstance(value, (np.integer,)):
+        return int(value)
+    if isinstance(value, (float, np.floating)):
+        value = float(value)
+        return value if math.isfinite(value) else None
+    if isinstance(value, Path):
+        return str(value)
+    if hasattr(value, "to_dict"):
+        return plain(value.to_dict())
+    return value
+
+
+def dumps(value) -> str:
+    return json.dumps(plain(value), indent=2, allow_nan=False) + "\n"
+
+
+# --------------------------------------------------------------------------- checks
+
+
+def checks_file_name(folders: Iterable[Path]) -> str:
+    """trends-<names>-<hash>.jsonl: the same sweeps give the same file (a rerun replaces
+    it), different sweeps analysed separately into one checks folder do not collide."""
+    resolved = [str(Path(f).resolve()) for f in folders]
+    digest = hashlib.sha1("\n".join(sorted(resolved)).encode()).hexdigest()[:8]
+    names = "+".join(slug(Path(r).name) for r in resolved)[:60]
+    return f"trends-{names}-{digest}.jsonl"
+
+
+def write_checks(folder: Path, name: str, results) -> Path | None:
+    """One JSON line per passed or failed check (skipped ones have no such state).
+    With none, an earlier file of the same name is removed (it would not describe
+    this run). Returns the path written, or None."""
+    folder.mkdir(parents=True, exist_ok=True)
+    path = folder / name
+    lines = [json.dumps(r.record(), allow_nan=False) for r in results if r.status != "skipped"]
+    if not lines:
+        if path.exists():
+            path.unlink()
+        return None
+    write_atomic(path, "\n".join(lines) + "\n")
+    return path
+
+
+# --------------------------------------------------------------------------- tables
+
+
+def _measured(value) -> str:
+    if value is None or (isinstance(value, float) and not math.isfinite(value)):
+        return "-"
+    return f"{value:.6g}"
+
+
+RESULT_TEXT = {"passed": "PASS", "failed": "FAIL", "skipped": "SKIP"}
+
+
+def terminal_table(results) -> str:
+    columns = ("case", "check", "measured", "expected", "tolerance", "result")
+    rows = [{"case": r.case, "check": r.check, "measured": _measured(r.measured),
+             "expected": r.expected, "tolerance": r.tolerance,
+             "result": RESULT_TEXT[r.status]} for r in results]
+    widths = {c: max([len(c)] + [len(row[c]) for row in rows]) for c in columns}
+    widths["tolerance"] = min(widths["tolerance"], 60)
+    lines = [" | ".join(c.ljust(widths[c]) for c in columns).rstrip(),
+             "-+-".join("-" * widths[c] for c in columns)]
+    for row in rows:
+        tol = row["tolerance"]
+        if len(tol) > 60:
+            row = dict(row, tolerance=tol[:57] + "...")
+        lines.append(" | ".join(row[c].ljust(widths[c]) for c in columns).rstrip())
+    return "\n".join(lines)
+
+
+def counts(results) -> dict:
+    out = {"passed": 0, "failed": 0, "skipped": 0}
+    for r in results:
+        out[r.status] += 1
+    return out
+
+
+def _md(text) -> str:
+    return " ".join(str(text).split()).replace("|", "\\|") or " "
+
+
+def _num(value, digits: int = 4) -> str:
+    if value is None:
+        return "-"
+    value = float(value)
+    return f"{value:.{digits}g}" if math.isfinite(value) else "-"
+
+
+def render_markdown(meta: dict, analyses, results, figures: list[Path], notes: list[str],
+                    out_dir: Path) -> str:
+    total = counts(results)
+    verdict = ("FAILED" if total["failed"] else "PASSED")
+    out = ["# Paper trends", ""]
+    for key, value in meta.items():
+        out.append(f"- {key}: {value}")
+    out += [f"- Checks: {total['passed']} passed, {total['failed']} failed, "
+            f"{total['skipped']} skipped", "",
+            f"**{verdict}**" + (" (skipped checks lacked data; they are not passes)"
+                                if total["skipped"] else ""), "",
+            "## Checks", "",
+            "| case | check | measured | expected | tolerance | result | reason |",
+            "|---|---|---|---|---|---|---|"]
+    for r in results:
+        result = {"passed": "PASS", "failed": "**FAIL**", "skipped": "SKIP"}[r.status]
+        out.append(f"| {_md(r.case)} | {_md(r.check)} | {_measured(r.measured)} | "
+                   f"{_md(r.expected)} | {_md(r.tolerance)} | {result} | {_md(r.reason)} |")
+    if notes:
+        out += ["", "## Notes", ""] + [f"- {_md(n)}" for n in notes]
+    for a in analyses:
+        out += ["", f"## {a.case}", "",
+                f"Sweep folder `{a.sweep.folder}`; parameter {a.x_label} (column `{a.x}`); "
+                f"{len(a.data)} completed runs analysed."]
+        for note in a.notes:
+            out.append(f"\n- {_md(note)}")
+        for metric, info in a.metrics.items():
+            out += ["", f"### {metric} vs {a.x_label}", "",
+                    f"| {a.x_label} | n | mean | std | sem |", "|---|---|---|---|---|"]
+            for row in info["groups"].itertuples(index=False):
+                out.append(f"| {row.x:g} | {row.n} | {_num(row.mean, 6)} | {_num(row.std)} | "
+                           f"{_num(row.sem)} |")
+            out += ["", "| fit | data | c0 | c1 | c2 | R^2 | n | dof |",
+                    "|---|---|---|---|---|---|---|---|"]
+            for source, label in (("realizations", "all realizations, unweighted"),
+                                  ("means", "means, weighted by n")):
+                for name in ("linear", "quadratic"):
+                    fit = info[source][name]
+                    if fit is None:
+                        why = info["why_not"].get(name, "too few points")
+                        out.append(f"| {name} | {label} | {_md(why)} | | | | | |")
+                        continue
+                    cells = []
+                    for i in range(3):
+                        if i < len(fit.coef):
+                            se = fit.se[i]
+                            cells.append(_num(fit.coef[i]) + (f" ± {_num(se, 2)}"
+                                                             if math.isfinite(se) else ""))
+                        else:
+                            cells.append("")
+                    out.append(f"| {name} | {label} | {' | '.join(cells)} | {_num(fit.r2)} | "
+                               f"{fit.n} | {fit.dof} |")
+        if a.halving is not None:
+            h = a.halving
+            out += ["", f"P_max(6 deg)/P_max(0 deg) = {_num(h['ratio'])} ± {_num(h['sigma'])} "
+                        f"({h['propagation']}; n = {h['numerator']['n']} and "
+                        f"{h['denominator']['n']} realizations)"]
+    if figures:
+        out += ["", "## Figures"]
+        report = report_module()
+        for figure in figures:
+            link = os.path.relpath(figure, out_dir).replace(os.sep, "/")
+            caption = report.figure_caption(figure)
+            out += ["", f"### {figure.stem}", "", _md(caption), "", f"![{figure.stem}]({link})"]
+    return "\n".join(out) + "\n"
+
+
+def analysis_json(a) -> dict:
+    metrics = {}
+    for metric, info in a.metrics.items():
+        metrics[metric] = {
+            "groups": info["groups"],
+            "n_runs": info["n_runs"],
+            "fits_over_realizations": {k: (v.to_dict() if v is not None else None)
+                                       for k, v in info["realizations"].items()},
+            "fits_over_means_weighted_by_n": {k: (v.to_dict() if v is not None else None)
+                                              for k, v in info["means"].items()},
+            "why_no_fit": info["why_not"],
+        }
+    return {
+        "case": a.case, "kind": a.kind, "parameter": a.x, "parameter_label": a.x_label,
+        "runs_analysed": [int(r) for r in a.data["run"]],
+        "metrics": metrics,
+        "ratio_6_over_0": a.halving,
+        "volume": {k: v for k, v in a.volume.items()},
+        "checks": [r.to_dict() for r in a.results],
+        "notes": a.notes,
+    }

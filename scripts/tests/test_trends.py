@@ -1,0 +1,621 @@
+"""Tests of scripts/analysis (trend checks, plots, CLI) on synthetic sweep folders.
+
+Run with Debian's interpreter: /usr/bin/python3 -m pytest -q scripts/tests
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+
+SCRIPTS = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(SCRIPTS))
+
+from analysis import cli, inputs, output, plots, trends  # noqa: E402
+
+PYTHON = "/usr/bin/python3"
+ENTRY = SCRIPTS / "trends"
+ANGLES = (0.0, 2.0, 4.0, 6.0, 8.0)
+RATIOS = (1.0, 5.0, 10.0, 15.0, 20.0)
+ALPHA_P = 1e-4
+WINDOWS = ((0, 3), (3, 6))
+
+
+# --------------------------------------------------------------------------- synthetic data
+
+
+def halving(theta):
+    """P_max falling linearly to exactly one half at 6 deg (the paper's statement)."""
+    return 10.0 - 5.0 / 6.0 * theta
+
+
+def rising_quadratic(ratio):
+    return 2.0 + 0.02 * ratio + 0.04 * ratio ** 2
+
+
+def volume_curve(cycles, depth=0.03, scale=1.5):
+    """End-of-cycle V/V0: fast compaction, then saturation."""
+    c = np.arange(1, cycles + 1)
+    return 1.0 - depth * (1.0 - np.exp(-c / scale))
+
+
+def write_run(folder: Path, p_max: float, cycles: int, *, volume=True, timeseries=True,
+              displacement=True, curve=None):
+    folder.mkdir(parents=True, exist_ok=True)
+    period = 4.0
+    t = np.linspace(0.0, cycles * period, cycles * 80 + 1)
+    phase = (t % period) / period
+    T = np.interp(phase, [0, 0.25, 0.5, 0.75, 1.0], [0, 100, 100, 0, 0])
+    pressure = p_max * (1 - np.exp(-t / 3)) * (1 - T / 100)
+    ends = volume_curve(cycles) if curve is None else np.asarray(curve, dtype=float)
+    if timeseries:
+        series = {"t": t, "T": T, "pressure": pressure, "bed_height": 10.0}
+        if volume:
+            # The bed reaches the cycle's end value once cooled (from 3/4 of the period).
+            index = np.minimum((t // period).astype(int) + (phase >= 0.75), cycles)
+            series["V_over_V0"] = np.concatenate([[1.0], ends])[index] * (1 + 3e-4 * T / 100)
+        pd.DataFrame(series).to_csv(folder / "timeseries.csv", index=False)
+    rows = {"cycle": np.arange(1, cycles + 1)}
+    rows["t_peak"] = (rows["cycle"] - 0.25) * period
+    rows["peak_pressure"] = p_max * (1 - np.exp(-rows["t_peak"] / 3))
+    if volume:
+        rows["V_over_V0_end_cooling"] = ends
+        rows["V_over_V0_end_heating"] = ends * 1.0003
+    pd.DataFrame(rows).to_csv(folder / "cycles.csv", index=False)
+    if displacement:
+        ir, iz = np.meshgrid(np.arange(6), np.arange(8))
+        cells = pd.DataFrame({"ir": ir.ravel(), "iz": iz.ravel()})
+        cells["r"] = cells["ir"] + 0.5
+        cells["z"] = cells["iz"] + 0.5
+        cells["ur"] = np.sin(cells["z"] / 3)
+        cells["uz"] = -np.cos(cells["r"] / 3)
+        cells["count"] = 4
+        cells["w"] = np.where((cells["ir"] % 5 == 0) | (cells["iz"] % 7 == 0), np.nan,
+                              np.sin(cells["r"]) * np.cos(cells["z"]))
+        for first, last in WINDOWS:
+            cells.to_csv(folder / f"displacement_{first}_{last}.csv", index=False)
+
+
+def build_sweep(folder: Path, kind: str, values, pmax, *, wrms=None, realizations=3,
+                noise=0.02, seed=0, v_end=0.97, runs=False, cycles=6, windows=WINDOWS,
+                run_options=None, drop=(), failed=(), grid_ratios=None) -> Path:
+    """A sweep folder with summary.csv (and runs/<run>/ when runs=True).
+
+    pmax(x) and wrms[(a, b)](x) give the truth; noise is a relative Gaussian scatter.
+    """
+    rng = np.random.default_rng(seed)
+    folder.mkdir(parents=True, exist_ok=True)
+    wrms = wrms if wrms is not None else {w: (lambda x: 0.05) for w in windows}
+    rows, run = [], 0
+    for other in (grid_ratios or [None]):
+        for x in values:
+            for s in range(realizations):
+                row = {"run": run}
+                if kind == "angle":
+                    row["container.opening_angle_deg"] = x
+                    if other is not None:
+                        row["thermal.alpha_c"] = other * ALPHA_P
+                else:
+                    row["thermal.alpha_c"] = x * ALPHA_P
+                row["thermal.alpha_p"] = ALPHA_P
+                row["seed"] = 100 + s
+                p = pmax(x) if other is None else pmax(x) * other / 10.0
+                row["P_max"] = p * (1 + noise * rng.normal())
+                row["P_max_std"] = 0.05 * p
+                row["V_over_V0_end"] = v_end
+                for (a, b), f in wrms.items():
+                    row[f"W_rms_{a}_{b}"] = f(x) * (1 + noise * rng.normal())
+                row["cycles"] = cycles
+                row["wall_seconds"] = 1.5
+                row["status"] = "failed" if run in failed else "completed"
+                if run in failed:
+                    row["P_max"] = -1000.0
+                rows.append(row)
+                if runs:
+                    write_run(folder / "runs" / str(run), row["P_max"], cycles,
+                              **(run_options or {}))
+                run += 1
+    frame = pd.DataFrame(rows).drop(columns=list(drop))
+    frame.to_csv(folder / "summary.csv", index=False)
+    return folder
+
+
+def results_by_id(analysis):
+    out = {}
+    for r in analysis.results:
+        out.setdefault(r.check_id, []).append(r)
+    return out
+
+
+def statuses(analysis, check_id):
+    return [r.status for r in results_by_id(analysis).get(check_id, [])]
+
+
+def analyse(folder, kind, tier="paper"):
+    return trends.analyse(inputs.load_sweep(folder), kind, tier)
+
+
+# --------------------------------------------------------------------------- definitions
+
+
+def test_every_check_has_a_tolerance_and_a_reason_for_every_tier():
+    assert set(trends.CHECKS) == {"pmax_theta_slope", "pmax_ratio_6_0", "pmax_ratio_slope",
+                                  "pmax_ratio_quadratic_r2", "wrms_theta_flat",
+                                  "wrms_ratio_slope", "volume_end", "volume_saturation"}
+    for definition in trends.CHECKS.values():
+        assert definition.reason and definition.rule
+        for tier in trends.TIERS:
+            assert definition.params(tier), (definition.id, tier)
+            assert definition.tier_reasons[tier], (definition.id, tier)
+
+
+def test_tolerances_loosen_from_paper_to_standard_to_quick():
+    c = trends.CHECKS
+    for check_id in ("pmax_theta_slope", "pmax_ratio_slope", "wrms_ratio_slope"):
+        k = [c[check_id].params(t)["k"] for t in ("quick", "standard", "paper")]
+        assert k[0] <= k[1] <= k[2]      # a smaller k demands less significance
+    flat = [c["wrms_theta_flat"].params(t)["k"] for t in ("quick", "standard", "paper")]
+    assert flat[0] >= flat[1] >= flat[2]   # a larger k accepts a larger slope as zero
+    floor = [c["pmax_ratio_6_0"].params(t)["floor"] for t in ("quick", "standard", "paper")]
+    assert floor[0] > floor[1] > floor[2] and floor[2] == pytest.approx(0.15)
+    r2 = [c["pmax_ratio_quadratic_r2"].params(t)["r2_min"] for t in ("quick", "standard", "paper")]
+    assert r2[0] < r2[1] < r2[2]
+
+
+def test_docs_show_the_check_table_as_defined():
+    text = (SCRIPTS.parent / "docs" / "trends.md").read_text(encoding="utf-8")
+    begin = "<!-- begin: scripts/trends --list-checks -->\n"
+    end = "<!-- end: scripts/trends --list-checks -->"
+    block = text.split(begin, 1)[1].split(end, 1)[0]
+    # When a rule, tolerance or reason changes, regenerate that block of docs/trends.md
+    # with: scripts/trends --list-checks
+    assert block == trends.describe_checks()
+    for check_id in trends.CHECKS:
+        assert f"`{check_id}`" in block, check_id
+
+
+# --------------------------------------------------------------------------- recognition
+
+
+def test_sweeps_are_recognized_by_their_columns(tmp_path):
+    angle = inputs.load_sweep(build_sweep(tmp_path / "a", "angle", ANGLES, halving))
+    ratio = inputs.load_sweep(build_sweep(tmp_path / "r", "ratio", RATIOS, rising_quadratic))
+    assert angle.kinds == ["angle"] and ratio.kinds == ["ratio"]
+    assert [w.column for w in angle.windows] == ["W_rms_0_3", "W_rms_3_6"]
+    # 1e-3/1e-4 is 9.999999999999998 in floating point; grouping treats it as 10.
+    assert sorted(ratio.summary[inputs.RATIO].unique()) == list(RATIOS)
+
+
+def test_a_single_valued_second_column_is_a_fixed_parameter(tmp_path):
+    folder = build_sweep(tmp_path / "a", "angle", ANGLES, halving, grid_ratios=(10.0,))
+    assert inputs.load_sweep(folder).kinds == ["angle"]
+
+
+def test_a_summary_without_required_columns_is_an_input_error(tmp_path):
+    folder = tmp_path / "s"
+    folder.mkdir()
+    pd.DataFrame({"run": [0], "seed": [1]}).to_csv(folder / "summary.csv", index=False)
+    with pytest.raises(inputs.InputError, match="P_max"):
+        inputs.load_sweep(folder)
+    with pytest.raises(inputs.InputError, match="not found"):
+        inputs.load_sweep(tmp_path / "nothing")
+
+
+def test_failed_runs_are_left_out(tmp_path):
+    folder = build_sweep(tmp_path / "a", "angle", ANGLES, halving, failed=(0, 4))
+    a = analyse(folder, "angle")
+    assert 0 not in set(a.data["run"]) and 4 not in set(a.data["run"])
+    assert any("did not complete" in n for n in a.sweep.notes)
+    assert statuses(a, "pmax_theta_slope") == ["passed"]
+
+
+def test_a_grid_is_cut_where_the_paper_fixed_the_other_parameter(tmp_path):
+    folder = build_sweep(tmp_path / "g", "angle", ANGLES, halving, grid_ratios=(5.0, 10.0))
+    sweep = inputs.load_sweep(folder)
+    assert sweep.kinds == ["angle", "ratio"]
+    a = trends.analyse(sweep, "angle", "paper")
+    assert np.allclose(a.data[inputs.RATIO], 10.0)
+    assert any("nearest the paper's 10" in n for n in a.notes)
+    assert statuses(a, "pmax_ratio_6_0") == ["passed"]
+
+
+# --------------------------------------------------------------------------- passing sweeps
+
+
+def test_an_angle_sweep_with_the_papers_trends_passes(tmp_path):
+    folder = build_sweep(tmp_path / "a", "angle", ANGLES, halving, runs=True)
+    a = analyse(folder, "angle")
+    assert {r.status for r in a.results} == {"passed"}, [
+        (r.check, r.status, r.tolerance) for r in a.results if r.status != "passed"]
+    ids = results_by_id(a)
+    assert len(ids["wrms_theta_flat"]) == 2
+    assert len(ids["volume_end"]) == len(ANGLES) and len(ids["volume_saturation"]) == len(ANGLES)
+    assert a.halving["ratio"] == pytest.approx(0.5, abs=0.05)
+    quadratic = a.metrics["P_max"]["realizations"]["quadratic"]
+    assert quadratic is not None and quadratic.coef[2] == pytest.approx(0.0, abs=0.05)
+
+
+def test_a_ratio_sweep_with_the_papers_trends_passes(tmp_path):
+    wrms = {w: (lambda x: 0.01 + 0.0004 * x ** 2) for w in WINDOWS}
+    folder = build_sweep(tmp_path / "r", "ratio", RATIOS, rising_quadratic, wrms=wrms, runs=True)
+    a = analyse(folder, "ratio")
+    assert {r.status for r in a.results} == {"passed"}, [
+        (r.check, r.status, r.tolerance) for r in a.results if r.status != "passed"]
+    r2 = results_by_id(a)["pmax_ratio_quadratic_r2"][0]
+    assert r2.measured > 0.99
+
+
+# --------------------------------------------------------------------------- each check can fail
+
+
+def test_pressure_rising_with_angle_fails(tmp_path):
+    folder = build_sweep(tmp_path / "a", "angle", ANGLES, lambda t: 5.0 + 0.5 * t)
+    for tier in trends.TIERS:
+        a = analyse(folder, "angle", tier)
+        assert statuses(a, "pmax_theta_slope") == ["failed"], tier
+
+
+def test_an_insignificant_decrease_fails_at_k_standard_errors(tmp_path):
+    # A tiny slope drowned in realization scatter: negative, but not by 2 SE.
+    folder = build_sweep(tmp_path / "a", "angle", ANGLES, lambda t: 10.0 - 0.01 * t, noise=0.1,
+                         seed=4)
+    a = analyse(folder, "angle", "paper")
+    result = results_by_id(a)["pmax_theta_slope"][0]
+    slope, se = result.detail["slope"], result.detail["se"]
+    assert slope + 2 * se >= 0
+    assert result.status == "failed"
+
+
+@pytest.mark.parametrize("tier", trends.TIERS)
+def test_a_ratio_of_0_9_fails_at_every_tier(tmp_path, tier):
+    folder = build_sweep(tmp_path / "a", "angle", ANGLES, lambda t: 10.0 - 1.0 / 6.0 * t)
+    a = analyse(folder, "angle", tier)
+    result = results_by_id(a)["pmax_ratio_6_0"][0]
+    assert result.measured == pytest.approx(0.9, abs=0.03)
+    assert result.status == "failed"
+    assert f"[{tier} tier:" in result.reason
+
+
+def test_the_ratio_band_depends_on_the_tier(tmp_path):
+    folder = build_sweep(tmp_path / "a", "angle", ANGLES, lambda t: 10.0 - 0.3 / 6.0 * 10 * t,
+                         noise=0.0)
+    # P(6)/P(0) = 0.7: outside 0.5 +- 0.15 (paper), inside 0.5 +- 0.25 and +- 0.35.
+    expected = {"paper": "failed", "standard": "passed", "quick": "passed"}
+    for tier, status in expected.items():
+        result = results_by_id(analyse(folder, "angle", tier))["pmax_ratio_6_0"][0]
+        assert result.measured == pytest.approx(0.7)
+        assert result.status == status, tier
+
+
+def test_the_ratio_band_widens_to_two_sigma(tmp_path):
+    folder = build_sweep(tmp_path / "a", "angle", ANGLES, lambda t: 10.0 - 0.3 / 6.0 * 10 * t,
+                         noise=0.25, seed=2)
+    result = results_by_id(analyse(folder, "angle", "paper"))["pmax_ratio_6_0"][0]
+    sigma = result.detail["sigma"]
+    assert 2 * sigma > 0.15
+    assert f"abs {2 * sigma:.4g}" in result.tolerance
+
+
+def test_pressure_falling_with_the_ratio_fails(tmp_path):
+    folder = build_sweep(tmp_path / "r", "ratio", RATIOS, lambda r: 20.0 - 0.5 * r)
+    a = analyse(folder, "ratio")
+    assert statuses(a, "pmax_ratio_slope") == ["failed"]
+
+
+def test_a_pressure_that_no_quadratic_follows_fails_r2(tmp_path):
+    zigzag = {1.0: 2.0, 5.0: 9.0, 10.0: 3.0, 15.0: 10.0, 20.0: 4.0}
+    folder = build_sweep(tmp_path / "r", "ratio", RATIOS, lambda r: zigzag[r], noise=0.0)
+    a = analyse(folder, "ratio")
+    result = results_by_id(a)["pmax_ratio_quadratic_r2"][0]
+    assert result.measured < 0.8 and result.status == "failed"
+
+
+def test_vorticity_strongly_sloped_with_angle_fails(tmp_path):
+    wrms = {(0, 3): lambda t: 0.05 + 0.01 * t, (3, 6): lambda t: 0.05}
+    folder = build_sweep(tmp_path / "a", "angle", ANGLES, halving, wrms=wrms)
+    a = analyse(folder, "angle", "quick")
+    assert statuses(a, "wrms_theta_flat") == ["failed", "passed"]
+
+
+def test_vorticity_falling_with_the_ratio_fails(tmp_path):
+    wrms = {(0, 3): lambda r: 0.2 - 0.005 * r, (3, 6): lambda r: 0.01 + 0.0004 * r ** 2}
+    folder = build_sweep(tmp_path / "r", "ratio", RATIOS, rising_quadratic, wrms=wrms)
+    a = analyse(folder, "ratio")
+    assert statuses(a, "wrms_ratio_slope") == ["failed", "passed"]
+
+
+def test_a_bed_that_does_not_compact_fails(tmp_path):
+    folder = build_sweep(tmp_path / "a", "angle", ANGLES, halving, v_end=1.01)
+    a = analyse(folder, "angle")
+    assert set(statuses(a, "volume_end")) == {"failed"}
+
+
+def test_compaction_that_speeds_up_instead_of_saturating_fails(tmp_path):
+    accelerating = 1.0 - 0.002 * np.arange(1, 7) ** 2
+    folder = build_sweep(tmp_path / "a", "angle", ANGLES, halving, runs=True,
+                         run_options={"curve": accelerating})
+    a = analyse(folder, "angle")
+    results = results_by_id(a)["volume_saturation"]
+    assert {r.status for r in results} == {"failed"}
+    assert all(r.detail["d_last"] > r.detail["d_first"] > 0 for r in results)
+
+
+def test_no_compaction_in_the_first_third_fails(tmp_path):
+    flat_then_down = [1.0, 1.0, 1.0, 1.0, 0.999, 0.9985]
+    folder = build_sweep(tmp_path / "a", "angle", ANGLES, halving, runs=True,
+                         run_options={"curve": flat_then_down})
+    a = analyse(folder, "angle")
+    assert set(statuses(a, "volume_saturation")) == {"failed"}
+
+
+def test_saturation_falls_back_on_the_timeseries(tmp_path):
+    folder = build_sweep(tmp_path / "a", "angle", ANGLES, halving, runs=True)
+    for cycles_csv in folder.glob("runs/*/cycles.csv"):
+        frame = pd.read_csv(cycles_csv)
+        frame.drop(columns=["V_over_V0_end_cooling", "V_over_V0_end_heating"]).to_csv(
+            cycles_csv, index=False)
+    values, source = inputs.end_of_cycle_volumes(folder / "runs" / "0")
+    assert "timeseries" in source
+    np.testing.assert_allclose(values[1:], volume_curve(6))
+    a = analyse(folder, "angle")
+    assert set(statuses(a, "volume_saturation")) == {"passed"}
+
+
+# --------------------------------------------------------------------------- skipped checks
+
+
+def test_one_angle_skips_the_angle_checks(tmp_path):
+    folder = build_sweep(tmp_path / "a", "angle", (0.0,), halving, realizations=4)
+    a = analyse(folder, "angle")
+    for check_id in ("pmax_theta_slope", "pmax_ratio_6_0", "wrms_theta_flat"):
+        assert set(statuses(a, check_id)) == {"skipped"}, check_id
+    skipped = results_by_id(a)["pmax_theta_slope"][0]
+    assert "1 theta_c value" in skipped.reason and skipped.measured is None
+
+
+def test_two_runs_give_a_slope_without_standard_error_and_skip(tmp_path):
+    folder = build_sweep(tmp_path / "a", "angle", (0.0, 6.0), halving, realizations=1)
+    a = analyse(folder, "angle")
+    assert statuses(a, "pmax_theta_slope") == ["skipped"]
+    assert "standard error" in results_by_id(a)["pmax_theta_slope"][0].reason
+    # The ratio still works with one realization per angle: the floor is the band.
+    result = results_by_id(a)["pmax_ratio_6_0"][0]
+    assert result.status == "passed" and "n/a" in result.tolerance
+
+
+def test_missing_angles_and_columns_skip(tmp_path):
+    folder = build_sweep(tmp_path / "a", "angle", (0.0, 2.0, 4.0), halving,
+                         drop=("V_over_V0_end", "W_rms_0_3", "W_rms_3_6"))
+    a = analyse(folder, "angle")
+    assert statuses(a, "pmax_theta_slope") == ["passed"]
+    assert statuses(a, "pmax_ratio_6_0") == ["skipped"]
+    assert "6 deg" in results_by_id(a)["pmax_ratio_6_0"][0].reason
+    assert statuses(a, "wrms_theta_flat") == ["skipped"]
+    assert statuses(a, "volume_end") == ["skipped"]
+    assert statuses(a, "volume_saturation") == ["skipped"]   # no runs/ folder
+
+
+def test_three_ratios_skip_the_r2_check(tmp_path):
+    folder = build_sweep(tmp_path / "r", "ratio", (1.0, 10.0, 20.0), rising_quadratic)
+    a = analyse(folder, "ratio")
+    assert statuses(a, "pmax_ratio_quadratic_r2") == ["skipped"]
+    assert statuses(a, "pmax_ratio_slope") == ["passed"]
+
+
+def test_too_few_cycles_skip_saturation(tmp_path):
+    folder = build_sweep(tmp_path / "a", "angle", ANGLES, halving, runs=True, cycles=2,
+                         windows=((0, 1), (1, 2)))
+    a = analyse(folder, "angle", "quick")
+    assert set(statuses(a, "volume_saturation")) == {"skipped"}
+    assert set(statuses(a, "volume_end")) == {"passed"}
+    assert len(statuses(a, "wrms_theta_flat")) == 2
+
+
+def test_skipped_checks_are_not_written_as_check_lines(tmp_path):
+    folder = build_sweep(tmp_path / "a", "angle", (0.0,), halving, realizations=3)
+    a = analyse(folder, "angle")
+    path = output.write_checks(tmp_path / "checks", "t.jsonl", a.results)
+    lines = path.read_text().splitlines() if path else []
+    written = [json.loads(line)["check"] for line in lines]
+    assert not any(r.check in written for r in a.results if r.status == "skipped")
+
+
+# --------------------------------------------------------------------------- records
+
+
+def test_check_lines_follow_the_check_record_format(tmp_path):
+    folder = build_sweep(tmp_path / "a", "angle", ANGLES, lambda t: 5.0 + 0.5 * t)
+    a = analyse(folder, "angle")
+    path = output.write_checks(tmp_path / "checks", "trends.jsonl", a.results)
+    fields = ("case", "check", "measured", "expected", "tolerance", "reason", "passed")
+    for line in path.read_text().splitlines():
+        record = json.loads(line)
+        assert tuple(record) == fields
+        assert isinstance(record["passed"], bool)
+        assert record["measured"] is None or isinstance(record["measured"], (int, float))
+    report = output.report_module()
+    checks = report.load_checks(tmp_path / "checks")
+    assert len(checks) == sum(r.status != "skipped" for r in a.results)
+    assert not checks.loc[checks["check"] == "P_max slope vs theta_c", "passed"].iloc[0]
+
+
+# --------------------------------------------------------------------------- plots
+
+
+def test_plots_are_made_from_run_folders(tmp_path):
+    folder = build_sweep(tmp_path / "a", "angle", ANGLES, halving, runs=True)
+    a = analyse(folder, "angle")
+    out = tmp_path / "out"
+    paths, notes = plots.make_all(a, out)
+    names = sorted(p.stem for p in paths)
+    assert names == sorted(f"trends_a_angle_{w}" for w in
+                           ("pressure_time", "P_max", "volume", "W_rms", "displacement"))
+    for path in paths:
+        assert path.stat().st_size > 1000
+        caption = path.with_suffix(".txt").read_text()
+        assert "paper" in caption and "tier" in caption
+    assert notes == []
+
+
+def test_plots_tolerate_missing_optional_files(tmp_path):
+    folder = build_sweep(tmp_path / "r", "ratio", RATIOS, rising_quadratic, runs=True,
+                         run_options={"volume": False, "displacement": False})
+    a = analyse(folder, "ratio")
+    out = tmp_path / "out"
+    paths, notes = plots.make_all(a, out)
+    names = {p.stem for p in paths}
+    assert names == {"trends_r_ratio_pressure_time", "trends_r_ratio_P_max", "trends_r_ratio_W_rms"}
+    assert any("V/V0 figure" in n for n in notes)
+    assert any("displacement" in n for n in notes)
+
+
+def test_plots_without_run_folders_only_need_the_summary(tmp_path):
+    folder = build_sweep(tmp_path / "a", "angle", ANGLES, halving, realizations=1)
+    a = analyse(folder, "angle")
+    paths, notes = plots.make_all(a, tmp_path / "out")
+    assert {p.stem for p in paths} == {"trends_a_angle_P_max", "trends_a_angle_W_rms"}
+    # One realization: the error bars show the run's cycle-to-cycle P_max_std instead.
+    caption = (tmp_path / "out" / "figures" / "trends_a_angle_P_max.txt").read_text()
+    assert "P_max_std" in caption
+    assert len(notes) == 3
+
+
+def test_volume_figure_falls_back_on_cycles(tmp_path):
+    folder = build_sweep(tmp_path / "a", "angle", ANGLES, halving, runs=True,
+                         run_options={"timeseries": False})
+    a = analyse(folder, "angle")
+    paths, notes = plots.volume_vs_time(a, tmp_path / "out")
+    assert paths and "per cycle" in notes[0]
+
+
+def test_stale_figures_of_the_sweep_are_removed(tmp_path):
+    folder = build_sweep(tmp_path / "a", "angle", ANGLES, halving, realizations=1)
+    figures = tmp_path / "out" / "figures"
+    figures.mkdir(parents=True)
+    (figures / "trends_a_angle_volume.png").write_bytes(b"old")
+    (figures / "other_figure.png").write_bytes(b"keep")
+    plots.make_all(analyse(folder, "angle"), tmp_path / "out")
+    assert not (figures / "trends_a_angle_volume.png").exists()
+    assert (figures / "other_figure.png").exists()
+
+
+# --------------------------------------------------------------------------- CLI
+
+
+def run_cli(*args, capsys=None):
+    status = cli.main([str(a) for a in args])
+    text = capsys.readouterr() if capsys else None
+    return status, text
+
+
+def test_cli_writes_the_results_and_exits_0_when_all_pass(tmp_path, capsys):
+    angle = build_sweep(tmp_path / "angle", "angle", ANGLES, halving, runs=True)
+    ratio = build_sweep(tmp_path / "ratio", "ratio", RATIOS, rising_quadratic, runs=True,
+                        wrms={w: (lambda x: 0.01 + 0.0004 * x ** 2) for w in WINDOWS})
+    out = tmp_path / "out"
+    status, text = run_cli(angle, ratio, "--out", out, "--tier", "paper", capsys=capsys)
+    assert status == 0, text.out
+    assert "trends: " in text.out and " 0 failed" in text.out
+    document = json.loads((out / "trends.json").read_text())
+    assert document["tier"] == "paper" and document["counts"]["failed"] == 0
+    kinds = [a["kind"] for a in document["analyses"]]
+    assert kinds == ["angle", "ratio"]
+    p_max = document["analyses"][0]["metrics"]["P_max"]
+    assert set(p_max["fits_over_realizations"]) == {"linear", "quadratic"}
+    assert len(p_max["fits_over_realizations"]["quadratic"]["standard_errors"]) == 3
+    markdown = (out / "trends.md").read_text()
+    assert "paper tier" in markdown and "![" in markdown
+    checks = list((out / "checks").glob("trends-*.jsonl"))
+    assert len(checks) == 1
+    # No temporary file is left behind.
+    assert not [p for p in out.rglob("*") if p.name.endswith(".tmp")]
+    # The validation report reads the lines and embeds the figures.
+    report = output.report_module()
+    assert report.main(["--checks", str(out / "checks"), "--out", str(out), "--no-color"]) == 0
+    assert "trends_angle_angle_P_max.png" in (out / "report.md").read_text()
+
+
+def test_cli_exits_1_when_a_check_fails_and_0_when_only_skipped(tmp_path, capsys):
+    failing = build_sweep(tmp_path / "bad", "angle", ANGLES, lambda t: 10.0 - 1.0 / 6.0 * t)
+    status, text = run_cli(failing, "--out", tmp_path / "o1", "--tier", "quick", capsys=capsys)
+    assert status == 1 and "FAILED" in text.out and "quick" in text.out
+    skipped = build_sweep(tmp_path / "one", "angle", (0.0,), halving,
+                          drop=("V_over_V0_end",))
+    status, text = run_cli(skipped, "--out", tmp_path / "o2", capsys=capsys)
+    assert status == 0
+    assert "0 passed, 0 failed" in text.out
+    document = json.loads((tmp_path / "o2" / "trends.json").read_text())
+    assert document["counts"]["skipped"] == len(document["checks"]) > 0
+    assert not list((tmp_path / "o2" / "checks").glob("*.jsonl"))
+
+
+def test_cli_checks_folder_option_and_rerun_replaces_the_file(tmp_path, capsys):
+    folder = build_sweep(tmp_path / "a", "angle", ANGLES, halving)
+    checks = tmp_path / "checks"
+    for _ in range(2):
+        assert run_cli(folder, "--out", tmp_path / "o", "--checks", checks, "--no-plots",
+                       capsys=capsys)[0] == 0
+    files = list(checks.glob("*.jsonl"))
+    assert len(files) == 1
+    lines = files[0].read_text().splitlines()
+    assert len(lines) == len({json.loads(line)["check"] for line in lines})
+
+
+def test_cli_usage_and_input_errors_exit_2(tmp_path, capsys):
+    assert run_cli(tmp_path / "missing", "--out", tmp_path / "o", capsys=capsys)[0] == 2
+    with pytest.raises(SystemExit) as raised:
+        cli.main(["--out", str(tmp_path / "o")])
+    assert raised.value.code == 2
+    with pytest.raises(SystemExit) as raised:
+        cli.main([str(tmp_path), "--out", str(tmp_path / "o"), "--tier", "huge"])
+    assert raised.value.code == 2
+
+
+def test_cli_keeps_the_old_results_when_a_write_fails(tmp_path, capsys, monkeypatch):
+    folder = build_sweep(tmp_path / "a", "angle", ANGLES, halving)
+    out = tmp_path / "o"
+    assert run_cli(folder, "--out", out, "--no-plots", capsys=capsys)[0] == 0
+    before = (out / "trends.json").read_bytes()
+
+    real_fsync = os.fsync
+
+    def failing_fsync(fd):
+        if os.readlink(f"/proc/self/fd/{fd}").split("/")[-1].startswith(".trends.json."):
+            raise OSError(28, "No space left on device")
+        return real_fsync(fd)
+
+    monkeypatch.setattr(os, "fsync", failing_fsync)
+    folder2 = build_sweep(tmp_path / "a", "angle", ANGLES, lambda t: 5 + t)
+    assert run_cli(folder2, "--out", out, "--no-plots", capsys=capsys)[0] == 2
+    assert (out / "trends.json").read_bytes() == before
+    assert not [p for p in out.iterdir() if p.name.endswith(".tmp")]
+
+
+def test_cli_notes_a_folder_that_is_not_a_sweep_of_the_paper(tmp_path, capsys):
+    folder = tmp_path / "mu"
+    folder.mkdir()
+    pd.DataFrame({"run": [0, 1], "contact.mu": [0.3, 0.5], "thermal.alpha_p": [1e-4, 1e-4],
+                  "P_max": [1.0, 2.0], "status": ["completed"] * 2}).to_csv(
+        folder / "summary.csv", index=False)
+    status, text = run_cli(folder, "--out", tmp_path / "o", capsys=capsys)
+    assert status == 0 and "not an angle or ratio sweep" in text.out
+
+
+def test_the_executable_entry_runs_with_debians_python(tmp_path):
+    folder = build_sweep(tmp_path / "a", "angle", ANGLES, lambda t: 5.0 + 0.5 * t)
+    done = subprocess.run([str(ENTRY), str(folder), "--out", str(tmp_path / "o"), "--no-plots"],
+                          capture_output=True, text=True, timeout=120)
+    assert done.returncode == 1, done.stderr
+    assert "FAIL" in done.stdout
+    listed = subprocess.run([PYTHON, str(ENTRY), "--list-checks"], capture_output=True,
+                            text=True, timeout=60)
+    assert listed.returncode == 0
+    for check_id in trends.CHECKS:
+        assert check_id in listed.stdout
