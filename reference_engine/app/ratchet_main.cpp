@@ -13,7 +13,13 @@
 #include <omp.h>
 #endif
 
+#include <mpi.h>
+
+#include <cstdlib>
+#include <thread>
+
 #include "ratchet/run/runner.hpp"
+#include "ratchet/run/sweep.hpp"
 #include "ratchet/scene/scene.hpp"
 #include "ratchet/world/world.hpp"
 
@@ -25,6 +31,9 @@ const char* kUsage =
     "      run a scene; writes DIR/timeseries.csv, DIR/bodies.csv, DIR/run.json\n"
     "  ratchet run --explain SCENE.json [--set key.path=value ...]\n"
     "      print the phases the scene will run and why, then exit\n"
+    "  ratchet sweep SWEEP.json --out DIR [--jobs N]\n"
+    "      run every point of a sweep (grid x realizations), N runs at a time (default: all cores);\n"
+    "      under mpirun -n K the runs are spread over K ranks; writes DIR/runs/<id>/, DIR/summary.csv\n"
     "  ratchet --version\n"
     "See docs/cli.md and docs/scene-format.md.\n";
 
@@ -45,6 +54,71 @@ int explain(const ratchet::World& world) {
   return 0;
 }
 
+// True when started by mpirun (OpenMPI or a PMI launcher): only then is MPI used.
+bool launched_by_mpirun() {
+  return std::getenv("OMPI_COMM_WORLD_SIZE") != nullptr || std::getenv("PMI_SIZE") != nullptr ||
+         std::getenv("PMIX_RANK") != nullptr;
+}
+
+int sweep(const std::vector<std::string>& args) {
+  std::string sweep_path, out_dir;
+  int jobs = 0;
+  for (std::size_t i = 1; i < args.size(); ++i) {
+    const std::string& a = args[i];
+    if (a == "--out" || a == "--jobs") {
+      if (i + 1 >= args.size()) return usage_error(a + " needs a value");
+      if (a == "--out") out_dir = args[++i];
+      else {
+        jobs = std::atoi(args[++i].c_str());
+        if (jobs < 1) return usage_error("--jobs needs a positive integer");
+      }
+    } else if (!a.empty() && a[0] == '-') return usage_error("unknown option '" + a + "'");
+    else if (sweep_path.empty()) sweep_path = a;
+    else return usage_error("more than one sweep file given");
+  }
+  if (sweep_path.empty() || out_dir.empty()) return usage_error("sweep needs SWEEP.json and --out DIR");
+  const bool mpi = launched_by_mpirun();
+  int rank = 0, size = 1;
+  if (mpi) {
+    MPI_Init(nullptr, nullptr);
+    MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+    MPI_Comm_size(MPI_COMM_WORLD, &size);
+  }
+  int status = 0;
+  try {
+    // Every rank checks the whole sweep before any run starts.
+    const ratchet::SweepPlan plan = ratchet::load_sweep(sweep_path, out_dir);
+    std::vector<int> mine;
+    for (const auto& run : plan.runs)
+      if (run.id % size == rank) mine.push_back(run.id);
+    if (jobs == 0) jobs = size > 1 ? 1 : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+    const std::string who = size > 1 ? "ratchet sweep [rank " + std::to_string(rank) + "]: " : "ratchet sweep: ";
+    if (rank == 0)
+      std::cerr << who << plan.runs.size() << " runs (" << plan.grid_keys.size() << " grid keys), " << size
+                << " rank(s), " << jobs << " job(s) per rank -> " << out_dir << "\n";
+    ratchet::run_sweep(plan, mine, jobs, [&](const std::string& line) { std::cerr << who << line << "\n"; });
+    if (mpi) MPI_Barrier(MPI_COMM_WORLD);
+    if (rank == 0) {
+      ratchet::write_sweep_summary(plan);
+      std::cerr << who << "summary in " << out_dir << "/summary.csv\n";
+      for (const auto& run : plan.runs)
+        if (!ratchet::run_completed(plan, run)) status = 1;
+      if (status != 0) std::cerr << who << "some runs did not complete (status 'missing' in summary.csv)\n";
+    }
+  } catch (const ratchet::SceneError& e) {
+    std::cerr << "ratchet: error: " << e.what() << "\n";
+    status = 2;
+  } catch (const std::exception& e) {
+    std::cerr << "ratchet: error: " << e.what() << "\n";
+    status = 1;
+  }
+  if (mpi) {
+    MPI_Allreduce(MPI_IN_PLACE, &status, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
+    MPI_Finalize();
+  }
+  return status;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -57,6 +131,7 @@ int main(int argc, char** argv) {
     std::cout << "ratchet " << RATCHET_VERSION << " (" << RATCHET_BUILD_TYPE << ")\n";
     return 0;
   }
+  if (args[0] == "sweep") return sweep(args);
   if (args[0] != "run") return usage_error("unknown command '" + args[0] + "'");
   std::string scene_path, out_dir;
   std::vector<std::string> overrides;

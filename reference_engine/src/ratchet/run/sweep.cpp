@@ -1,0 +1,240 @@
+#include "ratchet/run/sweep.hpp"
+
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <mutex>
+#include <sstream>
+#include <thread>
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+#include "ratchet/io/atomic_file.hpp"
+#include "ratchet/io/run_output.hpp"
+#include "ratchet/run/runner.hpp"
+#include "ratchet/scene/scene.hpp"
+
+namespace ratchet {
+
+using nlohmann::json;
+namespace fs = std::filesystem;
+
+namespace {
+
+[[noreturn]] void fail(const std::string& source, const std::string& field, const std::string& expected) {
+  throw SceneError(source + ": field '" + field + "': expected " + expected);
+}
+
+void set_path(json& j, const std::string& path, const json& value, const std::string& source) {
+  apply_override(j, path + "=" + value.dump(), source);
+}
+
+}  // namespace
+
+SweepPlan load_sweep(const std::string& path, const std::string& out_dir) {
+  std::ifstream in(path);
+  if (!in) throw SceneError(path + ": cannot open the sweep file");
+  const json j = json::parse(in, nullptr, false, true);
+  if (j.is_discarded() || !j.is_object()) throw SceneError(path + ": not a valid JSON object");
+  for (auto it = j.begin(); it != j.end(); ++it)
+    if (it.key() != "scene" && it.key() != "grid" && it.key() != "realizations" && it.key() != "seeds" &&
+        it.key() != "set" && it.key() != "description")
+      throw SceneError(path + ": field '" + it.key() +
+                       "': unknown field (known fields here: scene, grid, realizations, seeds, set, description)");
+  SweepPlan plan;
+  plan.source = path;
+  plan.out_dir = out_dir;
+  // Base scene: a path relative to the sweep file, or inline.
+  if (!j.contains("scene")) fail(path, "scene", "a scene file path or an inline scene (the field is required)");
+  json base;
+  std::string scene_source = path;
+  if (j.at("scene").is_string()) {
+    const fs::path p = fs::path(path).parent_path() / j.at("scene").get<std::string>();
+    std::ifstream sin(p);
+    if (!sin) fail(path, "scene", "a readable scene file (" + p.string() + " cannot be opened)");
+    base = json::parse(sin, nullptr, false, true);
+    if (base.is_discarded()) throw SceneError(p.string() + ": not valid JSON");
+    scene_source = p.string();
+  } else if (j.at("scene").is_object()) {
+    base = j.at("scene");
+  } else {
+    fail(path, "scene", "a scene file path or an inline scene object");
+  }
+  if (j.contains("set")) {
+    if (!j.at("set").is_object()) fail(path, "set", "an object {\"dotted.path\": value}");
+    for (auto it = j.at("set").begin(); it != j.at("set").end(); ++it) set_path(base, it.key(), it.value(), path);
+  }
+  // Seeds.
+  std::vector<std::uint64_t> seeds;
+  if (j.contains("seeds")) {
+    if (!j.at("seeds").is_array() || j.at("seeds").empty()) fail(path, "seeds", "a non-empty list of integers >= 0");
+    for (const json& s : j.at("seeds")) {
+      if (!s.is_number_integer() || s.get<long long>() < 0) fail(path, "seeds", "a non-empty list of integers >= 0");
+      seeds.push_back(s.get<std::uint64_t>());
+    }
+  } else {
+    const json r = j.value("realizations", json(1));
+    if (!r.is_number_integer() || r.get<int>() < 1) fail(path, "realizations", "an integer >= 1");
+    for (int s = 1; s <= r.get<int>(); ++s) seeds.push_back(static_cast<std::uint64_t>(s));
+  }
+  // Grid: the cartesian product, keys in file order of the (sorted) JSON object.
+  std::vector<std::vector<json>> values;
+  if (j.contains("grid")) {
+    if (!j.at("grid").is_object()) fail(path, "grid", "an object {\"dotted.path\": [values ...]}");
+    for (auto it = j.at("grid").begin(); it != j.at("grid").end(); ++it) {
+      if (!it.value().is_array() || it.value().empty()) fail(path, "grid." + it.key(), "a non-empty list of values");
+      plan.grid_keys.push_back(it.key());
+      values.emplace_back(it.value().begin(), it.value().end());
+    }
+  }
+  std::vector<std::size_t> index(values.size(), 0);
+  int id = 0;
+  for (bool more = true; more;) {
+    for (std::uint64_t seed : seeds) {
+      SweepRun run;
+      run.id = id++;
+      run.seed = seed;
+      run.scene = base;
+      for (std::size_t k = 0; k < values.size(); ++k) {
+        run.params.emplace_back(plan.grid_keys[k], values[k][index[k]]);
+        set_path(run.scene, plan.grid_keys[k], values[k][index[k]], path);
+      }
+      run.scene["seed"] = seed;
+      // Check the run's scene now: a bad grid value stops the sweep before any work.
+      try {
+        (void)build_scene(run.scene, scene_source);
+      } catch (const SceneError& e) {
+        throw SceneError(std::string(e.what()) + " (in run " + std::to_string(run.id) + " of sweep " + path + ")");
+      }
+      plan.runs.push_back(std::move(run));
+    }
+    // Next grid point (odometer, last key fastest).
+    more = false;
+    for (std::size_t k = values.size(); k-- > 0;) {
+      if (++index[k] < values[k].size()) { more = true; break; }
+      index[k] = 0;
+    }
+  }
+  return plan;
+}
+
+std::string run_dir(const SweepPlan& plan, int id) { return plan.out_dir + "/runs/" + std::to_string(id); }
+
+namespace {
+
+json read_run_json(const SweepPlan& plan, int id) {
+  std::ifstream in(run_dir(plan, id) + "/run.json");
+  if (!in) return json();
+  const json j = json::parse(in, nullptr, false);
+  return j.is_discarded() ? json() : j;
+}
+
+}  // namespace
+
+bool run_completed(const SweepPlan& plan, const SweepRun& run) {
+  const json j = read_run_json(plan, run.id);
+  return j.is_object() && j.value("status", "") == "completed" && j.value("scene_hash", "") == fnv1a_hex(run.scene.dump());
+}
+
+void run_sweep(const SweepPlan& plan, const std::vector<int>& ids, int jobs,
+               const std::function<void(const std::string&)>& progress) {
+  std::vector<int> todo;
+  for (int id : ids)
+    if (!run_completed(plan, plan.runs[static_cast<std::size_t>(id)])) todo.push_back(id);
+  if (progress)
+    progress(std::to_string(ids.size() - todo.size()) + " of " + std::to_string(ids.size()) +
+             " runs already completed; running " + std::to_string(todo.size()));
+  std::atomic<std::size_t> next{0};
+  std::atomic<int> done{0};
+  std::mutex mutex;
+  std::string first_error;
+  const auto start = std::chrono::steady_clock::now();
+  auto worker = [&]() {
+#ifdef _OPENMP
+    omp_set_num_threads(1);  // parallel over runs, not inside them
+#endif
+    for (std::size_t k = next++; k < todo.size(); k = next++) {
+      const SweepRun& run = plan.runs[static_cast<std::size_t>(todo[k])];
+      std::string line;
+      try {
+        World world(build_scene(run.scene, plan.source + " run " + std::to_string(run.id)));
+        RunOptions opt;
+        opt.out_dir = run_dir(plan, run.id);
+        const RunResult r = run_world(world, opt);
+        const int n = ++done;
+        const double el = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        const double left = el / n * static_cast<double>(todo.size() - static_cast<std::size_t>(n));
+        std::ostringstream s;
+        s << "run " << run.id << " done in " << std::round(r.wall_seconds) << " s (" << n << "/" << todo.size()
+          << ", about " << std::round(left) << " s left)";
+        line = s.str();
+      } catch (const std::exception& e) {
+        ++done;
+        line = "run " + std::to_string(run.id) + " FAILED: " + e.what();
+        std::lock_guard<std::mutex> lock(mutex);
+        if (first_error.empty()) first_error = line;
+      }
+      std::lock_guard<std::mutex> lock(mutex);
+      if (progress) progress(line);
+    }
+  };
+  std::vector<std::thread> threads;
+  for (int t = 0; t < std::max(1, jobs); ++t) threads.emplace_back(worker);
+  for (std::thread& t : threads) t.join();
+}
+
+void write_sweep_summary(const SweepPlan& plan) {
+  // Columns: run, grid keys, thermal.alpha_p, seed, then the summary keys of the runs.
+  std::vector<json> metas;
+  std::vector<std::string> keys;
+  for (const SweepRun& run : plan.runs) {
+    metas.push_back(read_run_json(plan, run.id));
+    const json& m = metas.back();
+    if (m.is_object() && m.contains("summary") && m.at("summary").is_object())
+      for (auto it = m.at("summary").begin(); it != m.at("summary").end(); ++it)
+        if (it.value().is_number() || it.value().is_null())
+          if (std::find(keys.begin(), keys.end(), it.key()) == keys.end()) keys.push_back(it.key());
+  }
+  std::sort(keys.begin(), keys.end());
+  auto cell = [](const json& v) -> std::string {
+    if (v.is_number_float()) return format_double(v.get<double>());
+    if (v.is_number()) return v.dump();
+    if (v.is_string()) return v.get<std::string>();
+    return "";
+  };
+  std::ostringstream csv, timings;
+  csv << "run";
+  for (const std::string& k : plan.grid_keys) csv << ',' << k;
+  const bool has_alpha_p = std::find(plan.grid_keys.begin(), plan.grid_keys.end(), "thermal.alpha_p") != plan.grid_keys.end();
+  if (!has_alpha_p) csv << ",thermal.alpha_p";
+  csv << ",seed";
+  for (const std::string& k : keys) csv << ',' << k;
+  csv << ",status\n";
+  timings << "run,wall_seconds,steps\n";
+  for (std::size_t i = 0; i < plan.runs.size(); ++i) {
+    const SweepRun& run = plan.runs[i];
+    const json& m = metas[i];
+    const bool ok = m.is_object() && m.value("status", "") == "completed" &&
+                    m.value("scene_hash", "") == fnv1a_hex(run.scene.dump());
+    csv << run.id;
+    for (const auto& p : run.params) csv << ',' << cell(p.second);
+    if (!has_alpha_p) {
+      const SceneDef s = build_scene(run.scene, plan.source);
+      csv << ',' << format_double(s.thermal.alpha_p);
+    }
+    csv << ',' << run.seed;
+    for (const std::string& k : keys)
+      csv << ',' << (ok && m.at("summary").contains(k) ? cell(m.at("summary").at(k)) : "");
+    csv << ',' << (ok ? "completed" : "missing") << '\n';
+    timings << run.id << ',' << (ok ? format_double(m.value("wall_seconds", 0.0)) : "") << ','
+            << (ok ? std::to_string(m.value("steps", 0)) : "") << '\n';
+  }
+  write_file_atomic(plan.out_dir + "/summary.csv", csv.str());
+  write_file_atomic(plan.out_dir + "/timings.csv", timings.str());
+}
+
+}  // namespace ratchet

@@ -1,0 +1,47 @@
+// Sweeps: a base scene, a grid over scene fields by dotted path, and realizations
+// (seeds). Each run is an ordinary run in DIR/runs/<id>/; the summary is built from
+// the runs' run.json files only, so it is the same whoever ran them (threads, MPI
+// ranks, or an earlier, interrupted invocation).
+#pragma once
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+namespace ratchet {
+
+struct SweepRun {
+  int id = 0;
+  std::vector<std::pair<std::string, nlohmann::json>> params;  // grid values, in grid order
+  std::uint64_t seed = 1;
+  nlohmann::json scene;  // the base scene with params, seed and `set` applied
+};
+
+struct SweepPlan {
+  std::string source;  // the sweep file
+  std::string out_dir;
+  std::vector<std::string> grid_keys;
+  std::vector<SweepRun> runs;
+};
+
+// Reads a sweep file and checks every run's scene (errors name the sweep file, the
+// run and the field) before anything is written.
+SweepPlan load_sweep(const std::string& path, const std::string& out_dir);
+
+std::string run_dir(const SweepPlan& plan, int id);
+
+// True if DIR/runs/<id>/run.json says completed for this run's scene hash.
+bool run_completed(const SweepPlan& plan, const SweepRun& run);
+
+// Runs the given run ids on `jobs` threads (each run single-threaded), skipping
+// completed ones. `progress` is called after each run with a line to show.
+void run_sweep(const SweepPlan& plan, const std::vector<int>& ids, int jobs,
+               const std::function<void(const std::string&)>& progress);
+
+// Writes DIR/summary.csv (deterministic: no timings) and DIR/timings.csv from the
+// run.json files. Runs without a completed run.json get status "missing".
+void write_sweep_summary(const SweepPlan& plan);
+
+}  // namespace ratchet
