@@ -81,20 +81,20 @@ void RunObservers::extra_values(const World& world, std::vector<double>& values)
   }
 }
 
-// Which stage boundary, if any, the step from t_prev to t crossed.
-RunObservers::StageEnd RunObservers::stage_end(double t_prev, double t) const {
+RunObservers::StageEnds RunObservers::stage_ends(double t_prev, double t) const {
+  StageEnds e;
   const ThermalProtocol& p = scene_.thermal;
   const double L = p.cycle_time();
   const double a = t_prev - p.start_time, b = t - p.start_time;
-  if (b <= 0.0 || a >= p.cycles * L) return StageEnd::None;
-  const int k = static_cast<int>(std::floor(a / L));
+  if (b <= 0.0 || a >= p.cycles * L) return e;
+  const int k = std::max(0, static_cast<int>(std::floor(a / L)));
   const double base = k * L;
-  auto crossed = [&](double mark) { return a < base + mark && b >= base + mark; };
   const double eps = 1e-9 * scene_.dt;  // stage marks that fall on a step: tolerate round-off in t
-  if (crossed(p.heat_time - eps)) return StageEnd::Heating;
-  if (crossed(p.heat_time + p.hold_time + p.cool_time - eps)) return StageEnd::Cooling;
-  if (crossed(L - eps)) return StageEnd::Cycle;
-  return StageEnd::None;
+  auto crossed = [&](double mark) { return a < base + mark - eps && b >= base + mark - eps; };
+  e.heating = crossed(p.heat_time);
+  e.cooling = crossed(p.heat_time + p.hold_time + p.cool_time);
+  e.cycle = crossed(L);
+  return e;
 }
 
 void RunObservers::after_step(const World& world) {
@@ -134,27 +134,25 @@ void RunObservers::after_step(const World& world) {
     ++c.steps;
     c.unconverged += world.stats().converged ? 0 : 1;
     const bool vtk = std::find(o.vtk_cycles.begin(), o.vtk_cycles.end(), k) != o.vtk_cycles.end();
-    switch (stage_end(t_prev_, t)) {
-      case StageEnd::Heating:
-        if (o.volume) c.v_heat = bed_volume(world) / v0_;
-        if (vtk) write_vtk(world, "cycle" + std::to_string(k) + "_end_heating");
-        break;
-      case StageEnd::Cooling:
-        if (o.volume) c.v_cool = bed_volume(world) / v0_;
-        if (vtk) write_vtk(world, "cycle" + std::to_string(k) + "_end_cooling");
-        if (o.wall_profile_bins > 0) {
-          in_cold_hold_ = true;
-          profile_impulse_.assign(static_cast<std::size_t>(o.wall_profile_bins), 0.0);
-          profile_time_ = 0.0;
-          profile_height_ = world.bed_height();
-        }
-        break;
-      case StageEnd::Cycle:
-        if (in_cold_hold_) flush_wall_profile(world, k);
-        if (o.displacement_cell > 0.0) snapshots_.push_back(world.state().x);
-        break;
-      case StageEnd::None:
-        break;
+    const StageEnds ends = stage_ends(t_prev_, t);
+    if (ends.heating) {
+      if (o.volume) c.v_heat = bed_volume(world) / v0_;
+      if (vtk) write_vtk(world, "cycle" + std::to_string(k) + "_end_heating");
+    }
+    if (ends.cooling) {
+      if (o.volume) c.v_cool = bed_volume(world) / v0_;
+      if (vtk) write_vtk(world, "cycle" + std::to_string(k) + "_end_cooling");
+      if (o.wall_profile_bins > 0) {
+        in_cold_hold_ = true;
+        profile_impulse_.assign(static_cast<std::size_t>(o.wall_profile_bins), 0.0);
+        profile_time_ = 0.0;
+        profile_height_ = world.bed_height();
+        accumulate_wall_profile(world);  // a zero-length hold still gets this step
+      }
+    }
+    if (ends.cycle) {
+      if (in_cold_hold_) flush_wall_profile(world, k);
+      if (o.displacement_cell > 0.0) snapshots_.push_back(world.state().x);
     }
   }
   t_prev_ = t;

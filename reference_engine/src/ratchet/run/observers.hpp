@@ -42,8 +42,12 @@ class RunObservers {
     double contacts_sum = 0.0, iterations_sum = 0.0;
     long long steps = 0, unconverged = 0;
   };
-  enum class StageEnd { None, Heating, Cooling, Cycle };
-  StageEnd stage_end(double t_prev, double t) const;
+  // Stage boundaries crossed by the step from t_prev to t (several at once when a hold
+  // has zero length).
+  struct StageEnds {
+    bool heating = false, cooling = false, cycle = false;
+  };
+  StageEnds stage_ends(double t_prev, double t) const;
   void write_vtk(const World& world, const std::string& tag) const;
   void accumulate_wall_profile(const World& world);
   void flush_wall_profile(const World& world, int cycle);

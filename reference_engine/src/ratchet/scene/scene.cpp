@@ -410,10 +410,13 @@ void read_outputs(const Reader& r, const json& j, SceneDef& s) {
   o.cycles = r.boolean(j, p, "cycles", o.cycles);
   o.wall_profile_bins = static_cast<int>(r.integer(j, p, "wall_profile_bins", 0, 0, 100000));
   o.pressure_window = r.non_negative(j, p, "pressure_window", o.pressure_window);
-  if (j.contains("steady_cycles")) {
-    const auto w = read_windows(r, json::array({j.at("steady_cycles")}), p + ".steady_cycles");
-    o.steady_first = w[0].first;
-    o.steady_last = w[0].second;
+  if (j.contains("steady_cycles")) {  // inclusive [first, last]
+    const json& w = j.at("steady_cycles");
+    if (!w.is_array() || w.size() != 2 || !w[0].is_number_integer() || !w[1].is_number_integer() ||
+        w[0].get<int>() < 0 || w[1].get<int>() < w[0].get<int>())
+      r.fail(p + ".steady_cycles", "[first, last] cycle indices with 0 <= first <= last", &w);
+    o.steady_first = w[0].get<int>();
+    o.steady_last = w[1].get<int>();
   }
   if (j.contains("displacement")) {
     const std::string f = p + ".displacement";

@@ -1,0 +1,129 @@
+// A 2-cycle run of a small bed through the whole chain (pour, settle, cycle, every
+// observable), and the stage bookkeeping with a zero-length hold.
+#include "ratchet/run/observers.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "ratchet/run/runner.hpp"
+
+namespace ratchet {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+json small_bed() {
+  return json::parse(R"({
+    "name": "chain", "seed": 3, "time": {"dt": 0.004},
+    "solver": {"tolerance": 1e-4, "max_iterations": 200},
+    "container": {"type": "cone", "bottom_radius": 3.0, "opening_angle_deg": 4.0},
+    "particles": {"generate": {"count": 40, "shape": "polyhedron", "vertices": 12, "radius_range": [0.3, 0.5]}},
+    "thermal": {"start_time": 4.0, "heat_time": 1.0, "hold_time": 0.5, "cool_time": 1.0, "cycles": 2},
+    "outputs": {"timeseries_every": 50, "volume": true, "segment_forces": true, "steady_cycles": [1, 1],
+                "pressure_window": 0.2, "displacement": {"cell": 1.0, "windows": [[0, 1], [0, 2]]},
+                "wall_profile_bins": 4, "vtk_cycles": [1]}
+  })");
+}
+
+std::vector<std::string> lines_of(const fs::path& p) {
+  std::ifstream in(p);
+  std::vector<std::string> out;
+  for (std::string l; std::getline(in, l);) out.push_back(l);
+  return out;
+}
+
+fs::path scratch(const std::string& name) {
+  const fs::path d = fs::temp_directory_path() / ("ratchet_observers_" + name);
+  fs::remove_all(d);
+  return d;
+}
+
+TEST(RunObservers, TwoCycleChainWritesEveryObservable) {
+  const fs::path d = scratch("chain");
+  World world(build_scene(small_bed(), "chain.json"));
+  RunOptions opt;
+  opt.out_dir = d.string();
+  const RunResult r = run_world(world, opt);
+  // cycles.csv: one row per cycle with a positive peak inside its cycle.
+  const auto cycles = lines_of(d / "cycles.csv");
+  ASSERT_EQ(cycles.size(), 3u);
+  for (int k = 0; k < 2; ++k) {
+    std::stringstream row(cycles[static_cast<std::size_t>(k + 1)]);
+    std::string cell;
+    std::vector<double> v;
+    while (std::getline(row, cell, ',')) v.push_back(std::stod(cell));
+    EXPECT_EQ(v[0], k);
+    EXPECT_GT(v[1], 0.0);                              // peak pressure
+    EXPECT_GE(v[2], 4.0 + 3.0 * k);                    // t_peak inside cycle k (cycle time 3)
+    EXPECT_LE(v[2], 4.0 + 3.0 * (k + 1) + 1e-9);
+    EXPECT_GT(v[3], 0.5);                              // V/V0 at the ends of heating and cooling
+    EXPECT_LT(v[3], 1.5);
+  }
+  // Summary: P_max is the peak of cycle 1 (steady window [1, 1]).
+  ASSERT_TRUE(r.summary.contains("P_max"));
+  EXPECT_GT(r.summary["P_max"].get<double>(), 0.0);
+  EXPECT_TRUE(r.summary.contains("V_over_V0_end"));
+  EXPECT_TRUE(r.summary.contains("W_rms_0_1"));
+  EXPECT_TRUE(r.summary.contains("W_rms_0_2"));
+  // Timeseries: the asked-for columns.
+  const auto ts = lines_of(d / "timeseries.csv");
+  EXPECT_NE(ts[0].find(",V_over_V0"), std::string::npos);
+  EXPECT_NE(ts[0].find(",wall_force_seg_15"), std::string::npos);
+  // Fields, profile and VTK at the ends of heating and cooling of cycle 1.
+  EXPECT_GT(lines_of(d / "displacement_0_1.csv").size(), 1u);
+  EXPECT_GT(lines_of(d / "displacement_0_2.csv").size(), 1u);
+  EXPECT_EQ(lines_of(d / "wall_profile.csv").size(), 1u + 2u * 4u);  // header + 2 cycles x 4 bins
+  for (const char* f : {"particles_cycle1_end_heating.vtk", "contacts_cycle1_end_cooling.vtk"})
+    EXPECT_TRUE(fs::exists(d / "vtk" / f)) << f;
+  EXPECT_FALSE(fs::exists(d / "vtk" / "particles_cycle0_end_heating.vtk"));  // only the cycles asked for
+  fs::remove_all(d);
+}
+
+TEST(RunObservers, ZeroLengthHoldStillEndsEachCycle) {
+  json j = small_bed();
+  j["thermal"]["hold_time"] = 0.0;
+  j["particles"]["generate"]["count"] = 6;
+  const fs::path d = scratch("zero_hold");
+  World world(build_scene(j, "zero_hold.json"));
+  RunOptions opt;
+  opt.out_dir = d.string();
+  run_world(world, opt);
+  EXPECT_TRUE(fs::exists(d / "displacement_0_2.csv"));  // needs the snapshot at the end of cycle 1
+  EXPECT_EQ(lines_of(d / "wall_profile.csv").size(), 1u + 2u * 4u);
+  fs::remove_all(d);
+}
+
+TEST(RunObservers, NothingAskedNothingComputed) {
+  json j = small_bed();
+  j["outputs"] = {{"timeseries_every", 50}, {"cycles", false}};
+  j["time"]["duration"] = 1.0;  // ends before cycling starts
+  j["particles"]["generate"]["count"] = 6;
+  const fs::path d = scratch("nothing");
+  World world(build_scene(j, "nothing.json"));
+  RunOptions opt;
+  opt.out_dir = d.string();
+  const RunResult r = run_world(world, opt);
+  EXPECT_FALSE(r.summary.contains("V_over_V0_end"));
+  EXPECT_TRUE(r.summary["P_max"].is_null());  // no cycle reached
+  EXPECT_FALSE(fs::exists(d / "cycles.csv"));
+  EXPECT_FALSE(fs::exists(d / "vtk"));
+  EXPECT_EQ(lines_of(d / "timeseries.csv")[0].find("V_over_V0"), std::string::npos);
+  fs::remove_all(d);
+}
+
+TEST(RunObservers, BedPointsOfASphereAreOnItsSurface) {
+  json j = small_bed();
+  j["particles"] = {{"bodies", {{{"shape", "sphere"}, {"radius", 0.5}, {"position", {0, 0, 1}}}}}};
+  World world(build_scene(j, "sphere.json"));
+  const auto pts = RunObservers::bed_points(world);
+  ASSERT_EQ(pts.size(), 14u);
+  for (const Vec3& p : pts) EXPECT_NEAR((p - Vec3(0, 0, 1)).norm(), 0.5, 1e-15);
+}
+
+}  // namespace
+}  // namespace ratchet
