@@ -333,7 +333,12 @@ std::vector<Vec3> lattice_sites(const Reader& r, const SceneDef& s, const json& 
         const double x = origin.x() + kx * spacing, y = origin.y() + ky * spacing;
         if (in_disk && std::hypot(x, y) > disk_radius) continue;
         if (static_cast<int>(sites.size()) >= count) break;
-        sites.emplace_back(x + uniform(rng, -jitter, jitter), y + uniform(rng, -jitter, jitter), z);
+        // Named draws: the order of evaluation of function arguments is unspecified in
+        // C++; y first is the order of the first engine version (and of the LIGGGHTS
+        // translator's copy of this generator, scripts/liggghts/scene.py).
+        const double jy = uniform(rng, -jitter, jitter);
+        const double jx = uniform(rng, -jitter, jitter);
+        sites.emplace_back(x + jx, y + jy, z);
       }
   }
   if (static_cast<int>(sites.size()) < count)
