@@ -25,35 +25,9 @@ constexpr double kFlatTolerance = 1e-9;
   throw std::invalid_argument(what + ": " + why);
 }
 
-// Rejects clouds Qhull cannot turn into a solid: too few, non-finite, coincident,
-// collinear or coplanar points (greedy extreme-point simplex, distances relative
-// to the cloud size).
 void validate(const std::vector<Vec3>& points, const std::string& what) {
-  if (points.size() < 4)
-    fail(what, "need at least 4 points for a solid hull, got " + std::to_string(points.size()));
-  for (std::size_t i = 0; i < points.size(); ++i)
-    if (!points[i].allFinite()) fail(what, "point " + std::to_string(i) + " is not finite");
-
-  const Vec3& p0 = points[0];
-  double d1 = 0.0;
-  Vec3 p1 = p0;
-  for (const Vec3& p : points)
-    if ((p - p0).norm() > d1) d1 = (p - p0).norm(), p1 = p;
-  if (!(d1 > 0.0)) fail(what, "all points coincide; expected a 3-D point cloud");
-  const Vec3 axis = (p1 - p0) / d1;
-
-  double d2 = 0.0;
-  Vec3 p2 = p0;
-  for (const Vec3& p : points) {
-    const double d = (p - p0).cross(axis).norm();
-    if (d > d2) d2 = d, p2 = p;
-  }
-  if (d2 <= kFlatTolerance * d1) fail(what, "points are collinear; expected a 3-D point cloud");
-  const Vec3 normal = (p1 - p0).cross(p2 - p0).normalized();
-
-  double d3 = 0.0;
-  for (const Vec3& p : points) d3 = std::max(d3, std::abs((p - p0).dot(normal)));
-  if (d3 <= kFlatTolerance * d1) fail(what, "points are coplanar; expected a 3-D point cloud");
+  const std::string why = point_cloud_defect(points);
+  if (!why.empty()) fail(what, why);
 }
 
 struct Hull {
@@ -277,6 +251,31 @@ void finish_shape(ConvexPolyhedron& s, const std::string& what) {
 }
 
 }  // namespace
+
+std::string point_cloud_defect(const std::vector<Vec3>& points) {
+  if (points.size() < 4) return "need at least 4 points for a solid hull, got " + std::to_string(points.size());
+  for (std::size_t i = 0; i < points.size(); ++i)
+    if (!points[i].allFinite()) return "point " + std::to_string(i) + " is not finite";
+  const Vec3& p0 = points[0];
+  double d1 = 0.0;
+  Vec3 p1 = p0;
+  for (const Vec3& p : points)
+    if ((p - p0).norm() > d1) d1 = (p - p0).norm(), p1 = p;
+  if (!(d1 > 0.0)) return "all points coincide; expected a 3-D point cloud";
+  const Vec3 axis = (p1 - p0) / d1;
+  double d2 = 0.0;
+  Vec3 p2 = p0;
+  for (const Vec3& p : points) {
+    const double d = (p - p0).cross(axis).norm();
+    if (d > d2) d2 = d, p2 = p;
+  }
+  if (d2 <= kFlatTolerance * d1) return "points are collinear; expected a 3-D point cloud";
+  const Vec3 normal = (p1 - p0).cross(p2 - p0).normalized();
+  double d3 = 0.0;
+  for (const Vec3& p : points) d3 = std::max(d3, std::abs((p - p0).dot(normal)));
+  if (d3 <= kFlatTolerance * d1) return "points are coplanar; expected a 3-D point cloud";
+  return "";
+}
 
 PolyhedronBuild build_convex_polyhedron(const std::vector<Vec3>& points, const std::string& what) {
   validate(points, what);

@@ -42,6 +42,11 @@ struct PolyhedronBuild {
 PolyhedronBuild build_convex_polyhedron(const std::vector<Vec3>& points,
                                         const std::string& what = "polyhedron");
 
+// Why `points` cannot span a solid, or "" if they can: fewer than 4 points, a
+// non-finite point, or all points coincident, collinear or coplanar within 1e-9 of the
+// cloud's size (greedy extreme-point simplex). Every Qhull caller checks this first.
+std::string point_cloud_defect(const std::vector<Vec3>& points);
+
 // Closed-form helper: the axis-aligned box with the given half extents. Keeps the
 // input axes (rotation = identity, vertices exactly +-h), so principal_inertia is in
 // x, y, z order rather than ascending. Throws std::invalid_argument unless h > 0, finite.

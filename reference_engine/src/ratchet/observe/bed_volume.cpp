@@ -1,5 +1,7 @@
 #include "ratchet/observe/bed_volume.hpp"
 
+#include "ratchet/geometry/convex_polyhedron.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -14,37 +16,13 @@ extern "C" {
 namespace ratchet {
 namespace {
 
-// Relative thickness below which the cloud counts as flat (same threshold as
-// geometry/convex_polyhedron.cpp): Qhull's roundoff handling is unreliable there and
-// the volume would be noise.
-constexpr double kFlatTolerance = 1e-9;
-
 [[noreturn]] void fail(const std::string& why) { throw std::invalid_argument("convex_hull_volume: " + why); }
 
-// Rejects clouds without a solid hull: greedy extreme-point simplex, distances
-// relative to the cloud size.
+// Rejects clouds without a solid hull (geometry/convex_polyhedron.hpp): below the flat
+// threshold Qhull's roundoff handling is unreliable and the volume would be noise.
 void validate(const std::vector<Vec3>& points) {
-  if (points.size() < 4) fail("need at least 4 points, got " + std::to_string(points.size()));
-  for (std::size_t i = 0; i < points.size(); ++i)
-    if (!points[i].allFinite()) fail("point " + std::to_string(i) + " is not finite");
-  const Vec3& p0 = points[0];
-  double d1 = 0.0;
-  Vec3 p1 = p0;
-  for (const Vec3& p : points)
-    if ((p - p0).norm() > d1) d1 = (p - p0).norm(), p1 = p;
-  if (!(d1 > 0.0)) fail("all points coincide");
-  const Vec3 axis = (p1 - p0) / d1;
-  double d2 = 0.0;
-  Vec3 p2 = p0;
-  for (const Vec3& p : points) {
-    const double d = (p - p0).cross(axis).norm();
-    if (d > d2) d2 = d, p2 = p;
-  }
-  if (d2 <= kFlatTolerance * d1) fail("points are collinear");
-  const Vec3 normal = (p1 - p0).cross(p2 - p0).normalized();
-  double d3 = 0.0;
-  for (const Vec3& p : points) d3 = std::max(d3, std::abs((p - p0).dot(normal)));
-  if (d3 <= kFlatTolerance * d1) fail("points are coplanar");
+  const std::string why = point_cloud_defect(points);
+  if (!why.empty()) fail(why);
 }
 
 // One Qhull run with its messages sent to `err`; returns Qhull's exit code and the
