@@ -1,9 +1,12 @@
 // ratchet: the command-line program of the NSCD reference engine.
-//   ratchet run SCENE.json --out DIR [--set key.path=value ...] [--quiet]
+//   ratchet run SCENE.json --out DIR [--packing FILE] [--set key.path=value ...] [--quiet]
 //   ratchet run --explain SCENE.json [--set ...]
+//   ratchet pack SCENE.json --out FILE [--set key.path=value ...] [--quiet]
+//   ratchet sweep SWEEP.json --out DIR [--jobs N]
 //   ratchet --version | help
 #include <unistd.h>
 
+#include <chrono>
 #include <cstdio>
 #include <iostream>
 #include <string>
@@ -16,8 +19,12 @@
 #include <mpi.h>
 
 #include <cstdlib>
+#include <filesystem>
 #include <thread>
 
+#include "ratchet/io/run_output.hpp"
+#include "ratchet/io/state_file.hpp"
+#include "ratchet/run/packing.hpp"
 #include "ratchet/run/runner.hpp"
 #include "ratchet/run/sweep.hpp"
 #include "ratchet/scene/scene.hpp"
@@ -27,19 +34,31 @@ namespace {
 
 const char* kUsage =
     "usage:\n"
-    "  ratchet run SCENE.json --out DIR [--set key.path=value ...] [--quiet]\n"
-    "      run a scene; writes DIR/timeseries.csv, DIR/bodies.csv, DIR/run.json\n"
+    "  ratchet run SCENE.json --out DIR [--packing FILE] [--set key.path=value ...] [--quiet]\n"
+    "      run a scene; writes DIR/timeseries.csv, DIR/bodies.csv, DIR/run.json;\n"
+    "      with --packing, start from that settled packing (made by ratchet pack)\n"
     "  ratchet run --explain SCENE.json [--set key.path=value ...]\n"
     "      print the phases the scene will run and why, then exit\n"
+    "  ratchet pack SCENE.json --out FILE [--set key.path=value ...] [--quiet]\n"
+    "      pour and settle the bed up to thermal.start_time; write the packing to FILE\n"
     "  ratchet sweep SWEEP.json --out DIR [--jobs N]\n"
     "      run every point of a sweep (grid x realizations), N runs at a time (default: all cores);\n"
-    "      under mpirun -n K the runs are spread over K ranks; writes DIR/runs/<id>/, DIR/summary.csv\n"
+    "      under mpirun -n K the runs are spread over K ranks; writes DIR/packings/, DIR/runs/<id>/,\n"
+    "      DIR/summary.csv\n"
     "  ratchet --version\n"
     "See docs/cli.md and docs/scene-format.md.\n";
 
 int usage_error(const std::string& msg) {
   std::cerr << "ratchet: " << msg << "\n" << kUsage;
   return 2;
+}
+
+// A settle check that failed is worth a line on stderr (the record is in run.json).
+void warn_unsettled(const ratchet::SceneDef& s, const nlohmann::json& settle) {
+  if (!settle.is_object() || settle.value("reached", nlohmann::json()) != false) return;
+  std::cerr << "ratchet: warning: " << s.source << ": the bed did not settle by t = " << settle.at("t_end").dump()
+            << ": KE/KE_peak = " << settle.at("ke_ratio").dump() << " is above settle.ke_ratio = "
+            << settle.at("ke_ratio_threshold").dump() << "\n";
 }
 
 int explain(const ratchet::World& world) {
@@ -96,7 +115,15 @@ int sweep(const std::vector<std::string>& args) {
     if (rank == 0)
       std::cerr << who << plan.runs.size() << " runs (" << plan.grid_keys.size() << " grid keys), " << size
                 << " rank(s), " << jobs << " job(s) per rank -> " << out_dir << "\n";
-    ratchet::run_sweep(plan, mine, jobs, [&](const std::string& line) { std::cerr << who << line << "\n"; });
+    const auto say = [&](const std::string& line) { std::cerr << who << line << "\n"; };
+    // Packings first, spread over the ranks like the runs; all ranks wait for all of them.
+    const std::vector<int> needed = ratchet::needed_packings(plan);
+    std::vector<int> my_packings;
+    for (std::size_t k = 0; k < needed.size(); ++k)
+      if (static_cast<int>(k % static_cast<std::size_t>(size)) == rank) my_packings.push_back(needed[k]);
+    if (!plan.packings.empty()) ratchet::make_packings(plan, my_packings, jobs, say);
+    if (mpi) MPI_Barrier(MPI_COMM_WORLD);
+    ratchet::run_sweep(plan, mine, jobs, say);
     if (mpi) MPI_Barrier(MPI_COMM_WORLD);
     if (rank == 0) {
       ratchet::write_sweep_summary(plan);
@@ -132,22 +159,25 @@ int main(int argc, char** argv) {
     return 0;
   }
   if (args[0] == "sweep") return sweep(args);
-  if (args[0] != "run") return usage_error("unknown command '" + args[0] + "'");
-  std::string scene_path, out_dir;
+  if (args[0] != "run" && args[0] != "pack") return usage_error("unknown command '" + args[0] + "'");
+  const bool pack = args[0] == "pack";
+  std::string scene_path, out_dir, packing;
   std::vector<std::string> overrides;
   bool do_explain = false, quiet = false;
   for (std::size_t i = 1; i < args.size(); ++i) {
     const std::string& a = args[i];
-    if (a == "--explain") do_explain = true;
+    if (a == "--explain" && !pack) do_explain = true;
     else if (a == "--quiet") quiet = true;
-    else if (a == "--out" || a == "--set") {
+    else if (a == "--out" || a == "--set" || (a == "--packing" && !pack)) {
       if (i + 1 >= args.size()) return usage_error(a + " needs a value");
-      (a == "--out" ? out_dir : (overrides.emplace_back(), overrides.back())) = args[++i];
+      (a == "--out" ? out_dir : a == "--packing" ? packing : (overrides.emplace_back(), overrides.back())) = args[++i];
     } else if (!a.empty() && a[0] == '-') return usage_error("unknown option '" + a + "'");
     else if (scene_path.empty()) scene_path = a;
     else return usage_error("more than one scene file given ('" + scene_path + "', '" + a + "')");
   }
   if (scene_path.empty()) return usage_error("no scene file given");
+  if (pack && out_dir.empty()) return usage_error("--out FILE is required to pack a scene");
+  if (pack && std::filesystem::is_directory(out_dir)) return usage_error("--out FILE names a folder: " + out_dir);
   if (!do_explain && out_dir.empty()) return usage_error("--out DIR is required to run a scene");
   try {
     // Everything that can reject the input happens before any output is created.
@@ -155,17 +185,60 @@ int main(int argc, char** argv) {
 #ifdef _OPENMP
     if (scene.solver.threads > 0) omp_set_num_threads(scene.solver.threads);
 #endif
+    if (pack && !ratchet::has_settle_stage(scene))
+      throw ratchet::SceneError(scene.source + ": field 'thermal': expected a thermal section (a packing is the bed "
+                                               "settled up to thermal.start_time)");
     ratchet::World world(scene);
-    if (do_explain) return explain(world);
+    if (pack) {
+      const auto t0 = std::chrono::steady_clock::now();
+      auto last = t0;
+      const bool progress = !quiet && isatty(STDERR_FILENO);
+      bool printed = false;
+      const nlohmann::json settle = ratchet::settle_world(world, [&](const ratchet::World& w) {
+        const auto now = std::chrono::steady_clock::now();
+        if (!progress || std::chrono::duration<double>(now - last).count() < 0.5) return;
+        last = now;
+        printed = true;
+        std::fprintf(stderr, "\r%s: settling, t=%.4g of %.4g, KE=%.3g   ", scene.name.c_str(), w.state().t,
+                     scene.thermal.start_time, w.kinetic_energy());
+        std::fflush(stderr);
+      });
+      if (printed) std::fprintf(stderr, "\n");
+      const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      const std::filesystem::path parent = std::filesystem::path(out_dir).parent_path();
+      if (!parent.empty()) std::filesystem::create_directories(parent);
+      ratchet::write_packing(out_dir, world, settle, {{"wall_seconds", seconds}});
+      warn_unsettled(scene, settle);
+      if (!quiet)
+        std::cerr << "ratchet: " << scene.name << ": packing " << ratchet::packing_key(scene) << " at t = "
+                  << ratchet::format_double(world.state().t) << " (step " << world.state().step << "), KE/KE_peak = "
+                  << settle.at("ke_ratio").dump() << ", in " << seconds << " s -> " << out_dir << "\n";
+      return 0;
+    }
     ratchet::RunOptions opt;
+    if (!packing.empty()) {
+      const nlohmann::json meta = ratchet::load_packing(packing, world);
+      opt.packing = ratchet::packing_reference(packing, world);
+      opt.packing_settle = meta.value("settle", nlohmann::json());
+    }
+    if (do_explain) {
+      if (!packing.empty())
+        std::cout << "starts from the packing " << packing << " (step " << world.state().step << ", t = "
+                  << world.state().t << ")\n";
+      return explain(world);
+    }
     opt.out_dir = out_dir;
     opt.progress = !quiet && isatty(STDERR_FILENO);
     const ratchet::RunResult r = ratchet::run_world(world, opt);
+    warn_unsettled(scene, r.settle);
     if (!quiet)
       std::cerr << "ratchet: " << scene.name << ": " << r.steps << " steps in " << r.wall_seconds << " s -> "
                 << out_dir << "\n";
     return 0;
   } catch (const ratchet::SceneError& e) {
+    std::cerr << "ratchet: error: " << e.what() << "\n";
+    return 2;
+  } catch (const ratchet::StateFileError& e) {  // a packing that is unreadable or of another scene: bad input
     std::cerr << "ratchet: error: " << e.what() << "\n";
     return 2;
   } catch (const std::exception& e) {

@@ -31,7 +31,9 @@ ALPHA_P = "thermal.alpha_p"
 RATIO = "alpha_c/alpha_p"
 REQUIRED = ("run", "P_max")
 METRICS = {"run", "seed", "P_max", "P_max_std", "V_over_V0_end", "cycles", "wall_seconds",
-           "status", RATIO}
+           "status", "packing", RATIO}
+#: Text columns of summary.csv (``packing``: the key of the settled packing a run started from).
+TEXT_COLUMNS = ("status", "packing")
 W_RMS = re.compile(r"^W_rms_(\d+)_(\d+)$")
 DISPLACEMENT = re.compile(r"^displacement_(\d+)_(\d+)\.csv$")
 #: Parameter values are grouped after rounding to this many decimals, so that
@@ -95,7 +97,7 @@ def load_sweep(folder: str | Path) -> Sweep:
     if not path.is_file():
         raise InputError(f"{path}: not found (expected the summary.csv of a sweep)")
     try:
-        summary = pd.read_csv(path)
+        summary = pd.read_csv(path, dtype={c: str for c in TEXT_COLUMNS})
     except (OSError, ValueError, pd.errors.ParserError) as error:
         raise InputError(f"{path}: cannot be read as CSV ({error})") from None
     missing = [c for c in REQUIRED if c not in summary.columns]
@@ -103,7 +105,7 @@ def load_sweep(folder: str | Path) -> Sweep:
         raise InputError(f"{path}: missing column(s) {', '.join(missing)}")
     notes: list[str] = []
     for column in summary.columns:
-        if column not in ("status",):
+        if column not in TEXT_COLUMNS:
             _numeric(summary, column)
     if summary["run"].isna().any():
         raise InputError(f"{path}: column 'run' has a value that is not an integer")

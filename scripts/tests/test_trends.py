@@ -198,6 +198,19 @@ def test_a_single_valued_second_column_is_a_fixed_parameter(tmp_path):
     assert inputs.load_sweep(folder).kinds == ["angle"]
 
 
+def test_the_packing_column_is_text_and_not_a_parameter(tmp_path):
+    folder = build_sweep(tmp_path / "r", "ratio", RATIOS, rising_quadratic)
+    frame = pd.read_csv(folder / "summary.csv")
+    # Keys are hex; an all-digit key with a leading zero must survive as text.
+    frame.insert(frame.columns.get_loc("seed") + 1, "packing",
+                 ["0123456789012345" if s % 2 else "0023456789012345" for s in frame["seed"]])
+    frame.to_csv(folder / "summary.csv", index=False)
+    sweep = inputs.load_sweep(folder)
+    assert "packing" not in sweep.parameters
+    assert sweep.summary["packing"].astype(str).str.len().eq(16).all()
+    assert sweep.kinds == ["ratio"]
+
+
 def test_a_summary_without_required_columns_is_an_input_error(tmp_path):
     folder = tmp_path / "s"
     folder.mkdir()

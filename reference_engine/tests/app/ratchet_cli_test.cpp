@@ -97,6 +97,71 @@ TEST(RatchetCli, ExplainListsPhasesAndWhySomeAreSkipped) {
   fs::remove_all(d);
 }
 
+// A sphere dropped onto a floor, settled until t = 0.3, then one short heating cycle.
+const char* kThermalScene = R"({
+  "name": "cli_thermal", "time": {"dt": 0.01},
+  "container": {"type": "planes", "planes": [{"normal": [0, 0, 1], "point": [0, 0, 0], "expands": true}]},
+  "particles": {"bodies": [{"shape": "sphere", "radius": 0.5, "position": [0, 0, 0.6]}]},
+  "thermal": {"start_time": 0.3, "heat_time": 0.1, "cycles": 1},
+  "settle": {"ke_ratio": 1e-300}
+})";
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p);
+  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+TEST(RatchetCli, PackThenRunFromThePacking) {
+  const fs::path d = scratch();
+  write(d / "s.json", kThermalScene);
+  const std::string scene = (d / "s.json").string(), packing = (d / "packs" / "p.state").string();
+  Result r = run("pack " + scene + " --out " + packing + " --quiet");
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_TRUE(fs::exists(packing));
+  EXPECT_FALSE(fs::exists(packing + ".partial"));
+  EXPECT_THAT(r.output, HasSubstr("warning: " + scene + ": the bed did not settle by t = "));  // 1e-300 is not reached
+  // Another expansion coefficient has the same packing key.
+  r = run("run " + scene + " --out " + (d / "out").string() + " --packing " + packing +
+          " --set thermal.alpha_c=0.002 --quiet");
+  ASSERT_EQ(r.status, 0) << r.output;
+  const std::string meta = slurp(d / "out" / "run.json");
+  EXPECT_THAT(meta, HasSubstr("\"packing\": {"));
+  EXPECT_THAT(meta, HasSubstr("\"reached\": false"));
+  EXPECT_EQ(slurp(d / "out" / "bodies.csv").substr(0, 100).find("\n0,0,"), std::string::npos);  // starts at the packing
+  r = run("run --explain " + scene + " --packing " + packing);
+  EXPECT_EQ(r.status, 0) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("starts from the packing " + packing + " (step 29,"));
+  fs::remove_all(d);
+}
+
+TEST(RatchetCli, PackingOfAnotherSceneOrDamagedIsRefusedBeforeAnyOutput) {
+  const fs::path d = scratch();
+  write(d / "s.json", kThermalScene);
+  const std::string scene = (d / "s.json").string(), packing = (d / "p.state").string();
+  ASSERT_EQ(run("pack " + scene + " --out " + packing + " --quiet").status, 0);
+  Result r = run("run " + scene + " --out " + (d / "out").string() + " --packing " + packing +
+                 " --set thermal.start_time=0.5");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_THAT(r.output, HasSubstr(packing + ": packing of a different scene"));
+  EXPECT_THAT(r.output, HasSubstr("field 'thermal.start_time' is 0.3 in the packing's scene and 0.5 in this one"));
+  EXPECT_FALSE(fs::exists(d / "out"));
+  const std::string bytes = slurp(packing);
+  std::ofstream(d / "cut.state", std::ios::binary) << bytes.substr(0, bytes.size() - 3);
+  r = run("run " + scene + " --out " + (d / "out").string() + " --packing " + (d / "cut.state").string());
+  EXPECT_EQ(r.status, 2);
+  EXPECT_THAT(r.output, HasSubstr((d / "cut.state").string() + ": truncated or corrupt state file"));
+  EXPECT_FALSE(fs::exists(d / "out"));
+  // No thermal section: nothing to settle, nothing written.
+  write(d / "cold.json", kScene);
+  r = run("pack " + (d / "cold.json").string() + " --out " + (d / "cold.state").string());
+  EXPECT_EQ(r.status, 2);
+  EXPECT_THAT(r.output, HasSubstr("cold.json: field 'thermal': expected a thermal section"));
+  EXPECT_FALSE(fs::exists(d / "cold.state"));
+  EXPECT_EQ(run("pack " + scene).status, 2);                        // no --out
+  EXPECT_EQ(run("pack " + scene + " --out " + d.string()).status, 2);  // --out names a folder
+  fs::remove_all(d);
+}
+
 TEST(RatchetCli, UsageErrors) {
   EXPECT_EQ(run("").status, 2);
   EXPECT_EQ(run("frobnicate").status, 2);

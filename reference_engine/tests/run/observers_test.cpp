@@ -116,6 +116,38 @@ TEST(RunObservers, NothingAskedNothingComputed) {
   fs::remove_all(d);
 }
 
+// At dt 0.005 step 800 ends at t = 4 - 6e-14: within round-off of start_time 4, so the
+// start of cycling (V0, snapshot 0) is taken there, and must not be taken again at step
+// 801, which also lies past the mark.
+TEST(RunObservers, StartOfCyclingIsTakenOnceWhenTheMarkFallsJustBelowAStep) {
+  const json j = json::parse(R"({
+    "name": "mark", "time": {"dt": 0.005},
+    "container": {"type": "planes", "planes": [{"normal": [0, 0, 1], "point": [0, 0, 0]}]},
+    "particles": {"bodies": [{"shape": "sphere", "radius": 0.5, "position": [0, 0, 0.5]}]},
+    "thermal": {"start_time": 4.0, "heat_time": 1.0, "cycles": 1, "alpha_p": 1e-2, "alpha_c": 0},
+    "outputs": {"volume": true}
+  })");
+  const fs::path d = scratch("mark");
+  World world(build_scene(j, "mark.json"));
+  RunOptions opt;
+  opt.out_dir = d.string();
+  run_world(world, opt);
+  const auto rows = lines_of(d / "timeseries.csv");
+  const auto header = rows.at(0);
+  std::size_t col = 0;
+  for (std::size_t p = 0; p < header.find("V_over_V0"); ++p) col += header[p] == ',' ? 1 : 0;
+  auto volume_at = [&](std::size_t step) {
+    std::stringstream row(rows.at(step + 1));
+    std::string cell;
+    for (std::size_t c = 0; c <= col; ++c) std::getline(row, cell, ',');
+    return std::stod(cell);
+  };
+  EXPECT_EQ(volume_at(800), 1.0);
+  // s_p = 1 + 1e-2 * 100 * 0.005 after step 801: V/V0 = 1.005^3, not 1 (V0 not re-taken).
+  EXPECT_NEAR(volume_at(801), 1.005 * 1.005 * 1.005, 1e-9);
+  fs::remove_all(d);
+}
+
 TEST(RunObservers, BedPointsOfASphereAreOnItsSurface) {
   json j = small_bed();
   j["particles"] = {{"bodies", {{{"shape", "sphere"}, {"radius", 0.5}, {"position", {0, 0, 1}}}}}};

@@ -143,6 +143,29 @@ TEST(Scene, MissingRequiredFieldsAreNamed) {
   EXPECT_THAT(error_of(j), AllOf(HasSubstr("particles.bodies[0].radius"), HasSubstr("required")));
 }
 
+TEST(Scene, SettleThresholdIsCheckedStrictly) {
+  json j = minimal_scene();
+  j["thermal"] = {{"start_time", 0.5}};
+  j["settle"] = {{"ke_ratio", 1e-6}};
+  EXPECT_DOUBLE_EQ(build_scene(j, "scene.json").settle_ke_ratio, 1e-6);
+  EXPECT_EQ(build_scene(minimal_scene(), "scene.json").settle_ke_ratio, 0.0);  // absent: no threshold
+  for (const char* bad : {"-0.001", "0", "1", "2.5", "\"nan\"", "true", "null"}) {
+    j["settle"]["ke_ratio"] = json::parse(bad);
+    EXPECT_THAT(error_of(j), AllOf(HasSubstr("scene.json: field 'settle.ke_ratio': expected a number in (0, 1), got"),
+                                   HasSubstr(bad)))
+        << bad;
+  }
+  j["settle"] = {{"ke_ratio", 1e-6}, {"peak", 1}};
+  EXPECT_THAT(error_of(j), AllOf(HasSubstr("'settle.peak': unknown field"), HasSubstr("known fields here: ke_ratio")));
+  j["settle"] = json::object();
+  EXPECT_THAT(error_of(j), AllOf(HasSubstr("'settle.ke_ratio'"), HasSubstr("required")));
+  j["settle"] = 1e-6;
+  EXPECT_THAT(error_of(j), AllOf(HasSubstr("'settle'"), HasSubstr("an object")));
+  j["settle"] = {{"ke_ratio", 1e-6}};
+  j.erase("thermal");
+  EXPECT_THAT(error_of(j), AllOf(HasSubstr("field 'settle'"), HasSubstr("thermal section")));
+}
+
 TEST(Scene, DegeneratePolyhedronIsRefusedWithItsField) {
   json j = minimal_scene();
   j["particles"]["bodies"] = json::array(

@@ -865,7 +865,7 @@ struct ManifoldScratch {
   std::vector<int> order, hull_a, hull_b;  // hull: indices into band lists, CCW
   std::vector<RegionPoint> poly, next;
   std::vector<SideFace> faces_a, faces_b;
-  std::vector<char> in_band;
+  std::vector<int> face_list;
   std::vector<ContactPoint> candidates;
 };
 
@@ -900,9 +900,9 @@ void hull_2d(const std::vector<Pt2>& pts, double eps, std::vector<int>& order, s
 }
 
 std::int32_t edge_or(const ConvexPolyhedron& s, int i, int j, std::int32_t fallback) {
-  const int lo = std::min(i, j), hi = std::max(i, j);
-  for (std::size_t e = 0; e < s.edges.size(); ++e)
-    if (s.edges[e][0] == lo && s.edges[e][1] == hi) return feature_id(FeatureKind::Edge, static_cast<int>(e));
+  const std::array<int, 2> key{std::min(i, j), std::max(i, j)};
+  const auto it = std::lower_bound(s.edges.begin(), s.edges.end(), key);  // edges are sorted
+  if (it != s.edges.end() && *it == key) return feature_id(FeatureKind::Edge, static_cast<int>(it - s.edges.begin()));
   return fallback;
 }
 
@@ -957,21 +957,23 @@ void build_manifold(const PolyhedronView& a, const PolyhedronView& b, const Vec3
   // its faces always qualifies. The test runs in the body frame (3 multiplications).
   auto side_faces = [&](const PolyhedronView& p, const std::vector<int>& bandv, double sign,
                         std::vector<SideFace>& faces) {
-    sc.in_band.assign(p.shape->vertices.size(), 0);
-    for (int i : bandv) sc.in_band[static_cast<std::size_t>(i)] = 1;
+    // Faces around the band vertices (vertex_faces), each once, in ascending order so the
+    // reference face is the same whatever the band's order.
+    sc.face_list.clear();
+    for (int i : bandv)
+      for (int f : p.shape->vertex_faces[static_cast<std::size_t>(i)]) sc.face_list.push_back(f);
+    std::sort(sc.face_list.begin(), sc.face_list.end());
+    sc.face_list.erase(std::unique(sc.face_list.begin(), sc.face_list.end()), sc.face_list.end());
     const Vec3 n_body = sign * (p.R.transpose() * n);
     faces.clear();
     int ref = -1;
     double ref_mn = -kInf;
-    for (std::size_t f = 0; f < p.shape->faces.size(); ++f) {
-      const double facing = p.shape->face_normals[f].dot(n_body);
+    for (int f : sc.face_list) {
+      const double facing = p.shape->face_normals[static_cast<std::size_t>(f)].dot(n_body);
       if (!(facing > kSteep)) continue;
-      bool touches = false;
-      for (int v : p.shape->faces[f]) touches = touches || sc.in_band[static_cast<std::size_t>(v)];
-      if (!touches) continue;
-      if (facing > ref_mn) { ref_mn = facing; ref = static_cast<int>(f); }
-      const Vec3 m = p.face_normal(static_cast<int>(f));
-      faces.push_back({m, p.face_offset(static_cast<int>(f)), m.dot(n)});
+      if (facing > ref_mn) { ref_mn = facing; ref = f; }
+      const Vec3 m = p.face_normal(f);
+      faces.push_back({m, m.dot(p.center) + p.scale * p.shape->face_offsets[static_cast<std::size_t>(f)], m.dot(n)});
     }
     return ref;
   };

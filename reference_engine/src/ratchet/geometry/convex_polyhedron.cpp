@@ -246,6 +246,10 @@ void finish_shape(ConvexPolyhedron& s, const std::string& what) {
     s.edge_faces.push_back({half[i].face, half[i + 1].face});
   }
 
+  s.vertex_faces.assign(s.vertices.size(), {});
+  for (std::size_t f = 0; f < s.faces.size(); ++f)
+    for (int v : s.faces[f]) s.vertex_faces[static_cast<std::size_t>(v)].push_back(static_cast<int>(f));
+
   s.bounding_radius = 0.0;
   for (const Vec3& v : s.vertices) s.bounding_radius = std::max(s.bounding_radius, v.norm());
 }

@@ -34,7 +34,10 @@ RunObservers::RunObservers(const World& world, std::string out_dir)
   if (o.segment_forces)
     for (std::size_t k = 0; k < side_wall_indices(scene_).size(); ++k) columns_.push_back("wall_force_seg_" + std::to_string(k));
   if (o.volume) v0_ = bed_volume(world);
-  if (thermal_ && scene_.thermal.start_time <= 0.0 && o.displacement_cell > 0.0) snapshots_.push_back(world.state().x);
+  // The start of cycling is the first state with t >= start_time (within round-off):
+  // the initial state when start_time is 0, or a packing (run/packing.hpp) that ends there.
+  started_ = thermal_ && world.state().t >= scene_.thermal.start_time - 1e-9 * scene_.dt;
+  if (started_ && o.displacement_cell > 0.0) snapshots_.push_back(world.state().x);
   t_prev_ = world.state().t;
 }
 
@@ -102,8 +105,10 @@ void RunObservers::after_step(const World& world) {
   if (!thermal_) return;
   const ThermalProtocol& p = scene_.thermal;
   const OutputSettings& o = scene_.outputs;
-  // Start of cycling: reference volume and the first snapshot.
-  if (t_prev_ < p.start_time && t >= p.start_time - 1e-9 * scene_.dt) {
+  // Start of cycling: reference volume and the first snapshot, once (a state a few ulps
+  // below start_time reaches the mark, and so would the next step).
+  if (!started_ && t >= p.start_time - 1e-9 * scene_.dt) {
+    started_ = true;
     if (o.volume) v0_ = bed_volume(world);
     if (o.displacement_cell > 0.0) snapshots_.push_back(world.state().x);
   }

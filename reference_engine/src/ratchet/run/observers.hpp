@@ -56,6 +56,7 @@ class RunObservers {
   std::string out_dir_;
   std::vector<std::string> columns_;
   bool thermal_ = false;
+  bool started_ = false;  // the start of cycling (V0, snapshot 0) has been taken
   double v0_ = NAN;
   double t_prev_ = 0.0;
   std::vector<CycleRecord> cycles_;

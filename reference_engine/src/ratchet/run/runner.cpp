@@ -4,9 +4,11 @@
 #include <cmath>
 #include <cstdio>
 #include <memory>
+#include <optional>
 
 #include "ratchet/io/run_output.hpp"
 #include "ratchet/run/observers.hpp"
+#include "ratchet/run/packing.hpp"
 
 namespace ratchet {
 
@@ -32,6 +34,9 @@ RunResult run_world(World& world, const RunOptions& options, const std::function
   const std::int64_t total = scene.steps;
   const int every_ts = scene.outputs.timeseries_every;
   const int every_bodies = scene.outputs.bodies_every;
+  // A run from a packing starts after its settle stage and reports the packing's record.
+  std::optional<SettleMonitor> settle;
+  if (options.packing.is_null()) settle.emplace(world);
   while (world.state().step < total) {
     world.step();
     const std::int64_t k = world.state().step;
@@ -40,6 +45,7 @@ RunResult run_world(World& world, const RunOptions& options, const std::function
       throw RunError(scene.source + ": the state became non-finite at step " + std::to_string(k) +
                      " (t = " + std::to_string(world.state().t) + "); the time step may be too large");
     observers.after_step(world);
+    if (settle) settle->after_step(world);
     if (out) {
       if (k % every_ts == 0 || k == total) out->write_timeseries_row(world);
       if ((every_bodies > 0 && k % every_bodies == 0) || k == total) out->write_bodies(world);
@@ -64,7 +70,11 @@ RunResult run_world(World& world, const RunOptions& options, const std::function
   r.steps = world.state().step;
   r.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   r.summary = observers.finish(world);
-  if (out) out->finish(world, {{"status", "completed"}, {"wall_seconds", r.wall_seconds}, {"summary", r.summary}});
+  if (settle) r.settle = has_settle_stage(scene) ? settle->record() : nlohmann::json(nullptr);
+  else r.settle = options.packing_settle;
+  if (out)
+    out->finish(world, {{"status", "completed"}, {"wall_seconds", r.wall_seconds}, {"summary", r.summary},
+                        {"settle", r.settle}, {"packing", options.packing}});
   return r;
 }
 

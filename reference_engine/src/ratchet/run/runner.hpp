@@ -14,12 +14,18 @@ namespace ratchet {
 struct RunOptions {
   std::string out_dir;        // empty: no files
   bool progress = false;      // a progress line with the time left, on stderr
+  // Set when the world's state was loaded from a packing (run/packing.hpp):
+  // packing_reference(...) and the settle record stored in the packing. Both go to
+  // run.json; null: the run starts from the scene and records its own settle stage.
+  nlohmann::json packing;
+  nlohmann::json packing_settle;
 };
 
 struct RunResult {
   std::int64_t steps = 0;
   double wall_seconds = 0.0;
   nlohmann::json summary;  // the observers' summary (P_max, V/V0, W_rms ...), also in run.json
+  nlohmann::json settle;   // the settle record (run/packing.hpp), null without a thermal section
 };
 
 // Thrown when the state stops being finite (divergence).

@@ -15,6 +15,8 @@
 
 #include "ratchet/io/atomic_file.hpp"
 #include "ratchet/io/run_output.hpp"
+#include "ratchet/io/state_file.hpp"
+#include "ratchet/run/packing.hpp"
 #include "ratchet/run/runner.hpp"
 #include "ratchet/scene/scene.hpp"
 
@@ -106,7 +108,11 @@ SweepPlan load_sweep(const std::string& path, const std::string& out_dir) {
       run.scene["seed"] = seed;
       // Check the run's scene now: a bad grid value stops the sweep before any work.
       try {
-        (void)build_scene(run.scene, scene_source);
+        const SceneDef scene = build_scene(run.scene, scene_source);
+        // A packing pays when there is a settle stage and the run goes past it.
+        if (has_settle_stage(scene) && scene.thermal.start_time > 0.0 &&
+            scene.thermal.start_time + scene.dt <= scene.duration)
+          run.packing_key = packing_key(scene);
       } catch (const SceneError& e) {
         throw SceneError(std::string(e.what()) + " (in run " + std::to_string(run.id) + " of sweep " + path + ")");
       }
@@ -118,6 +124,14 @@ SweepPlan load_sweep(const std::string& path, const std::string& out_dir) {
       if (++index[k] < values[k].size()) { more = true; break; }
       index[k] = 0;
     }
+  }
+  // Packings in the order of their first run (a linear search: no unordered containers).
+  for (const SweepRun& run : plan.runs) {
+    if (run.packing_key.empty()) continue;
+    auto it = std::find_if(plan.packings.begin(), plan.packings.end(),
+                           [&](const SweepPacking& p) { return p.key == run.packing_key; });
+    if (it == plan.packings.end()) plan.packings.push_back({run.packing_key, {run.id}});
+    else it->runs.push_back(run.id);
   }
   return plan;
 }
@@ -138,6 +152,99 @@ json read_run_json(const SweepPlan& plan, int id) {
 bool run_completed(const SweepPlan& plan, const SweepRun& run) {
   const json j = read_run_json(plan, run.id);
   return j.is_object() && j.value("status", "") == "completed" && j.value("scene_hash", "") == fnv1a_hex(run.scene.dump());
+}
+
+std::string packing_path(const SweepPlan& plan, const std::string& key) {
+  return plan.out_dir + "/packings/" + key + ".state";
+}
+
+namespace {
+
+// Empty when the packing file is there, whole and of this key; otherwise why not.
+std::string packing_problem(const SweepPlan& plan, const SweepPacking& packing) {
+  const std::string path = packing_path(plan, packing.key);
+  std::error_code ec;
+  if (!fs::exists(path, ec)) return "missing";
+  try {
+    const StateFile f = read_state_file(path);
+    if (f.key != packing.key) return path + ": holds key " + f.key;
+    return "";
+  } catch (const StateFileError& e) {
+    return e.what();
+  }
+}
+
+std::string id_list(const std::vector<int>& ids) {
+  std::string s;
+  for (int id : ids) s += (s.empty() ? "" : ", ") + std::to_string(id);
+  return s;
+}
+
+}  // namespace
+
+bool packing_ready(const SweepPlan& plan, const SweepPacking& packing) { return packing_problem(plan, packing).empty(); }
+
+std::vector<int> needed_packings(const SweepPlan& plan) {
+  std::vector<int> out;
+  for (std::size_t i = 0; i < plan.packings.size(); ++i)
+    for (int id : plan.packings[i].runs)
+      if (!run_completed(plan, plan.runs[static_cast<std::size_t>(id)])) {
+        out.push_back(static_cast<int>(i));
+        break;
+      }
+  return out;
+}
+
+void make_packings(const SweepPlan& plan, const std::vector<int>& indices, int jobs,
+                   const std::function<void(const std::string&)>& progress) {
+  std::vector<int> todo;
+  std::mutex mutex;
+  for (int i : indices) {
+    const std::string problem = packing_problem(plan, plan.packings[static_cast<std::size_t>(i)]);
+    if (problem.empty()) continue;
+    todo.push_back(i);
+    if (problem != "missing" && progress) progress("packing unusable, making it again: " + problem);
+  }
+  if (progress)
+    progress(std::to_string(indices.size() - todo.size()) + " of " + std::to_string(indices.size()) +
+             " packings already made; making " + std::to_string(todo.size()));
+  if (todo.empty()) return;
+  // No throwing from here: under MPI the other ranks wait at a barrier. A folder that
+  // cannot be made fails each packing's write instead (reported per packing).
+  std::error_code ec;
+  fs::create_directories(plan.out_dir + "/packings", ec);
+  std::atomic<std::size_t> next{0};
+  auto worker = [&]() {
+#ifdef _OPENMP
+    omp_set_num_threads(1);
+#endif
+    for (std::size_t k = next++; k < todo.size(); k = next++) {
+      const SweepPacking& p = plan.packings[static_cast<std::size_t>(todo[k])];
+      const SweepRun& run = plan.runs[static_cast<std::size_t>(p.runs.front())];
+      std::string line;
+      try {
+        const auto t0 = std::chrono::steady_clock::now();
+        World world(build_scene(run.scene, plan.source + " run " + std::to_string(run.id)));
+        const json settle = settle_world(world);
+        const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        write_packing(packing_path(plan, p.key), world, settle, {{"wall_seconds", seconds}});
+        std::ostringstream s;
+        s << "packing " << p.key << " (seed " << run.seed << ", runs " << id_list(p.runs) << ") done in "
+          << std::round(seconds) << " s, t = " << format_double(world.state().t);
+        if (settle.at("ke_ratio").is_number()) s << ", KE/KE_peak = " << settle.at("ke_ratio").get<double>();
+        if (settle.at("reached") == false)
+          s << "; NOT settled: above settle.ke_ratio = " << settle.at("ke_ratio_threshold").get<double>();
+        line = s.str();
+      } catch (const std::exception& e) {
+        line = "packing " + p.key + " FAILED: " + e.what();
+      }
+      std::lock_guard<std::mutex> lock(mutex);
+      if (progress) progress(line);
+    }
+  };
+  std::vector<std::thread> threads;
+  for (int t = 0; t < std::max(1, std::min<int>(jobs, static_cast<int>(todo.size()))); ++t) threads.emplace_back(worker);
+  for (std::thread& t : threads) t.join();
 }
 
 void run_sweep(const SweepPlan& plan, const std::vector<int>& ids, int jobs,
@@ -164,6 +271,12 @@ void run_sweep(const SweepPlan& plan, const std::vector<int>& ids, int jobs,
         World world(build_scene(run.scene, plan.source + " run " + std::to_string(run.id)));
         RunOptions opt;
         opt.out_dir = run_dir(plan, run.id);
+        if (!run.packing_key.empty()) {
+          const std::string path = packing_path(plan, run.packing_key);
+          const json meta = load_packing(path, world);
+          opt.packing = packing_reference(path, world);
+          opt.packing_settle = meta.value("settle", json());
+        }
         const RunResult r = run_world(world, opt);
         const int n = ++done;
         const double el = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -211,7 +324,7 @@ void write_sweep_summary(const SweepPlan& plan) {
   for (const std::string& k : plan.grid_keys) csv << ',' << k;
   const bool has_alpha_p = std::find(plan.grid_keys.begin(), plan.grid_keys.end(), "thermal.alpha_p") != plan.grid_keys.end();
   if (!has_alpha_p) csv << ",thermal.alpha_p";
-  csv << ",seed";
+  csv << ",seed,packing";
   for (const std::string& k : keys) csv << ',' << k;
   csv << ",status\n";
   timings << "run,wall_seconds,steps\n";
@@ -226,7 +339,9 @@ void write_sweep_summary(const SweepPlan& plan) {
       const SceneDef s = build_scene(run.scene, plan.source);
       csv << ',' << format_double(s.thermal.alpha_p);
     }
-    csv << ',' << run.seed;
+    csv << ',' << run.seed << ',';
+    // The packing the run actually started from, as its run.json says.
+    if (ok && m.contains("packing") && m.at("packing").is_object()) csv << m.at("packing").value("key", "");
     for (const std::string& k : keys)
       csv << ',' << (ok && m.at("summary").contains(k) ? cell(m.at("summary").at(k)) : "");
     csv << ',' << (ok ? "completed" : "missing") << '\n';

@@ -17,6 +17,13 @@ struct SweepRun {
   std::vector<std::pair<std::string, nlohmann::json>> params;  // grid values, in grid order
   std::uint64_t seed = 1;
   nlohmann::json scene;  // the base scene with params, seed and `set` applied
+  std::string packing_key;  // run/packing.hpp; empty: the run starts from its scene
+};
+
+// A settled packing shared by the runs with the same packing key.
+struct SweepPacking {
+  std::string key;
+  std::vector<int> runs;  // ids of the runs that start from it, ascending; the first one's scene makes it
 };
 
 struct SweepPlan {
@@ -24,6 +31,7 @@ struct SweepPlan {
   std::string out_dir;
   std::vector<std::string> grid_keys;
   std::vector<SweepRun> runs;
+  std::vector<SweepPacking> packings;  // in the order of their first run
 };
 
 // Reads a sweep file and checks every run's scene (errors name the sweep file, the
@@ -35,8 +43,23 @@ std::string run_dir(const SweepPlan& plan, int id);
 // True if DIR/runs/<id>/run.json says completed for this run's scene hash.
 bool run_completed(const SweepPlan& plan, const SweepRun& run);
 
+// DIR/packings/<key>.state
+std::string packing_path(const SweepPlan& plan, const std::string& key);
+
+// True if the packing file exists, reads back whole and has this key.
+bool packing_ready(const SweepPlan& plan, const SweepPacking& packing);
+
+// Indices into plan.packings of the packings that some run not yet completed needs.
+std::vector<int> needed_packings(const SweepPlan& plan);
+
+// Makes the given packings (indices into plan.packings) on `jobs` threads, skipping
+// those already made; a half-written one (only a .partial file) is made again.
+void make_packings(const SweepPlan& plan, const std::vector<int>& indices, int jobs,
+                   const std::function<void(const std::string&)>& progress);
+
 // Runs the given run ids on `jobs` threads (each run single-threaded), skipping
-// completed ones. `progress` is called after each run with a line to show.
+// completed ones. A run with a packing key starts from its packing, which must have
+// been made (make_packings) before. `progress` is called after each run with a line to show.
 void run_sweep(const SweepPlan& plan, const std::vector<int>& ids, int jobs,
                const std::function<void(const std::string&)>& progress);
 

@@ -440,6 +440,15 @@ void read_outputs(const Reader& r, const json& j, SceneDef& s) {
   }
 }
 
+// The settle check (run/packing.hpp): only meaningful before a thermal protocol starts.
+void read_settle(const Reader& r, const json& j, SceneDef& s) {
+  r.object(j, "settle", {"ke_ratio"});
+  (void)r.required(j, "settle", "ke_ratio", "a number in (0, 1)");
+  s.settle_ke_ratio = r.number(j, "settle", "ke_ratio", 0.0, 0.0, 1.0, true, true, "a number in (0, 1)");
+  if (!s.thermal.enabled)
+    r.fail("settle", "a scene with a thermal section too (the settle stage is the time before thermal.start_time)");
+}
+
 void read_particles(const Reader& r, const json& j, SceneDef& s) {
   r.object(j, "particles", {"generate", "bodies"});
   Rng rng(s.seed);
@@ -488,7 +497,7 @@ void apply_override(json& scene, const std::string& assignment, const std::strin
 SceneDef build_scene(const json& j, const std::string& source) {
   Reader r{source};
   r.object(j, "", {"name", "seed", "gravity", "time", "solver", "materials", "effects", "container",
-                   "particles", "thermal", "outputs", "description"});
+                   "particles", "thermal", "outputs", "settle", "description"});
   SceneDef s;
   s.source = source;
   s.name = r.string(j, "", "name", "");
@@ -501,6 +510,7 @@ SceneDef build_scene(const json& j, const std::string& source) {
   if (j.contains("thermal")) read_thermal(r, j.at("thermal"), s.thermal);
   if (j.contains("container")) read_container(r, j.at("container"), s.container);
   if (j.contains("outputs")) read_outputs(r, j.at("outputs"), s);
+  if (j.contains("settle")) read_settle(r, j.at("settle"), s);
   const json& time = r.required(j, "", "time", "an object {dt, duration}");
   r.object(time, "time", {"dt", "duration"});
   s.dt = r.positive(time, "time", "dt", s.dt);

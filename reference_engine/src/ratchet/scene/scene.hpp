@@ -115,6 +115,9 @@ struct SceneDef {
   ContainerDef container;
   ThermalProtocol thermal;
   OutputSettings outputs;
+  // settle.ke_ratio: the bed counts as settled when, at the end of the settle stage
+  // (thermal.start_time), KE <= ratio x peak KE; a recorded check. 0: no threshold.
+  double settle_ke_ratio = 0.0;
   std::vector<ConvexPolyhedron> shapes;
   std::vector<BodyDef> bodies;
   nlohmann::json as_run;     // the scene JSON as run: the file after --set overrides

@@ -37,6 +37,10 @@ double slide_residual(const SlideTrial& s, const Eigen::Vector2d& d) {
 }  // namespace
 
 LocalSolution solve_local_coulomb(const Mat3& W, const Vec3& w, double mu) {
+  return solve_local_coulomb(W, W.inverse(), w, mu);
+}
+
+LocalSolution solve_local_coulomb(const Mat3& W, const Mat3& W_inv, const Vec3& w, double mu) {
   LocalSolution sol;
   if (w[0] >= 0.0) return sol;  // the gap stays open with no impulse
   if (mu == 0.0) {
@@ -45,8 +49,8 @@ LocalSolution solve_local_coulomb(const Mat3& W, const Vec3& w, double mu) {
     return sol;
   }
   // Stick: u = 0.
-  const Vec3 stick = -W.ldlt().solve(w);
-  const double lt = std::hypot(stick[1], stick[2]);
+  const Vec3 stick = -(W_inv * w);
+  const double lt = std::sqrt(stick[1] * stick[1] + stick[2] * stick[2]);  // no overflow: impulses are O(1)
   if (stick[0] > 0.0 && lt <= mu * stick[0]) {
     sol.lambda = stick;
     sol.status = LocalStatus::Stick;
@@ -55,13 +59,15 @@ LocalSolution solve_local_coulomb(const Mat3& W, const Vec3& w, double mu) {
   sol.status = LocalStatus::Slide;
   // Slide: find the direction d with u_t(d) = -k d, k > 0. Fixed point
   // d <- -u_t(d)/|u_t(d)| from the stick trial direction; it converges in one step when
-  // W_tt is isotropic and W_nt = 0 (a sphere on a plane) and in a few otherwise.
+  // W_tt is isotropic and W_nt = 0 (a sphere on a plane). Otherwise it is slow to reach
+  // 1e-13 (28 of 121,000 slides of a settled polyhedron bed did within 8 steps), so
+  // after two steps Newton takes over.
   Eigen::Vector2d d = lt > 0.0 ? Eigen::Vector2d(stick[1] / lt, stick[2] / lt)
                                : Eigen::Vector2d(-w[1], -w[2]).normalized();
   if (!d.allFinite()) d = Eigen::Vector2d(1.0, 0.0);
   const Eigen::Vector2d d0 = d;  // the stick trial direction
   constexpr double kDirTol = 1e-13;  // direction converged to near round-off
-  for (int it = 0; it < 20; ++it) {
+  for (int it = 0; it < 2; ++it) {
     const SlideTrial s = slide_trial(W, w, mu, d);
     if (!s.valid) break;
     const double un = s.u_t.norm();
@@ -74,10 +80,11 @@ LocalSolution solve_local_coulomb(const Mat3& W, const Vec3& w, double mu) {
     }
     d = d_next;
   }
-  // Newton on the angle of d, from the stick trial direction (derivative by a
-  // central difference: f is smooth in the angle away from poles of lambda_n). Converges
-  // in a few steps where the fixed point is not contractive (u_t small against the
-  // coupling mu W_tt near the stick boundary).
+  // Newton on the angle a of d = (cos a, sin a), from the stick trial direction, on
+  // g(a) = d x u_t(d) (zero where u_t is parallel to d), with the derivative in closed
+  // form: lambda_n = -w_n / (W_nn + mu W_nt.d), u_t = w_t + W_tn lambda_n + mu W_tt lambda_n d.
+  // Converges in a few steps where the fixed point is not contractive (u_t small
+  // against the coupling mu W_tt near the stick boundary).
   auto dir = [](double a) { return Eigen::Vector2d(std::cos(a), std::sin(a)); };
   auto residual_at = [&](double a) {
     const Eigen::Vector2d da = dir(a);
@@ -90,16 +97,26 @@ LocalSolution solve_local_coulomb(const Mat3& W, const Vec3& w, double mu) {
            std::abs(slide_residual(t, da)) < 1e-9;
   };
   {
-    double a = std::atan2(d0.y(), d0.x());  // the stick trial direction: the solution is near
+    const Eigen::Vector2d W_nt(W(0, 1), W(0, 2)), W_tn(W(1, 0), W(2, 0));
+    Eigen::Matrix2d W_tt;
+    W_tt << W(1, 1), W(1, 2), W(2, 1), W(2, 2);
+    double a = std::atan2(d0.y(), d0.x());
     for (int it = 0; it < 30; ++it) {
-      const double f = residual_at(a);
-      if (std::abs(f) < 1e-14) break;
-      constexpr double kStep = 1e-7;  // central difference: error ~kStep^2 relative
-      const double df = (residual_at(a + kStep) - residual_at(a - kStep)) / (2.0 * kStep);
-      if (!(std::abs(df) > 1e-300)) break;
-      double da = -f / df;
-      if (std::abs(da) > 0.5) da = da > 0.0 ? 0.5 : -0.5;  // stay in the basin
-      a += da;
+      const Eigen::Vector2d da = dir(a), dp(-da.y(), da.x());
+      const double denom = W(0, 0) + mu * W_nt.dot(da);
+      if (!(denom > 0.0)) break;
+      const double ln = -w[0] / denom;
+      const double ln_p = w[0] * mu * W_nt.dot(dp) / (denom * denom);
+      const Eigen::Vector2d ut = Eigen::Vector2d(w[1], w[2]) + W_tn * ln + W_tt * (mu * ln * da);
+      const Eigen::Vector2d ut_p = W_tn * ln_p + W_tt * (mu * (ln_p * da + ln * dp));
+      const double g = da.x() * ut.y() - da.y() * ut.x();
+      const double un = ut.norm();
+      if (!(un > 0.0) || std::abs(g) < 1e-15 * un) break;
+      const double g_p = dp.x() * ut.y() + da.x() * ut_p.y() - dp.y() * ut.x() - da.y() * ut_p.x();
+      if (!(std::abs(g_p) > 1e-300)) break;
+      double step = -g / g_p;
+      if (std::abs(step) > 0.5) step = step > 0.0 ? 0.5 : -0.5;  // stay in the basin
+      a += step;
     }
     if (admissible_at(a)) {
       const Eigen::Vector2d da = dir(a);

@@ -27,4 +27,8 @@ inline double solve_local_normal(double W_nn, double w_n) {
 // Full 3D Coulomb problem. mu = 0 reduces exactly to solve_local_normal.
 LocalSolution solve_local_coulomb(const Mat3& W, const Vec3& w, double mu);
 
+// The same with W^-1 given (the sweep computes it once per contact and step, not once
+// per local solve).
+LocalSolution solve_local_coulomb(const Mat3& W, const Mat3& W_inv, const Vec3& w, double mu);
+
 }  // namespace ratchet

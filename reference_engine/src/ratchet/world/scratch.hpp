@@ -13,15 +13,23 @@
 namespace ratchet {
 
 // One contact point as the solver sees it. Local frame columns (n, t1, t2).
+// The operators of the sweep are built once per step (build_solver_contacts) so that a
+// local solve is a few 3x3 products: u = F^T (v_a - v_b) + J_a w_a - J_b w_b + u0 and,
+// for an impulse change d, v_a += m_a^-1 F d, w_a += M_a d (and minus for B).
 struct SolverContact {
   int a = 0, b = 0;                // b < 0: wall -1 - b
   ContactPoint geometry;
   Vec3 t1 = Vec3::UnitX(), t2 = Vec3::UnitY();
   Vec3 ra = Vec3::Zero(), rb = Vec3::Zero();  // lever arms from the centres of mass
-  Mat3 W = Mat3::Zero();           // local Delassus block (only W(0,0) without friction)
+  Mat3 F = Mat3::Identity();       // columns n, t1, t2 (world)
+  Mat3 Ja = Mat3::Zero(), Jb = Mat3::Zero();  // rows r x e_k: angular velocity -> local velocity
+  Mat3 Ma = Mat3::Zero(), Mb = Mat3::Zero();  // columns I^-1 (r x e_k): local impulse -> angular velocity
+  Mat3 W = Mat3::Zero();           // local Delassus block W = H^T M^-1 H (only W(0,0) without friction)
+  Mat3 W_inv = Mat3::Zero();       // its inverse (the stick solution), with friction only
   double mu = 0.0;
   double bias = 0.0;               // b: u_n + b >= 0 is the velocity form of g(t+h) >= 0
   Vec3 u_expansion = Vec3::Zero(); // relative velocity of the contact from thermal expansion (world)
+  Vec3 u0 = Vec3::Zero();          // F^T u_expansion: the local velocity no body velocity explains
   Vec3 lambda = Vec3::Zero();      // local impulse (n, t1, t2) on A
 };
 
@@ -39,7 +47,8 @@ struct StepScratch {
   std::vector<BodyPair> pairs;
   std::vector<ContactManifold> pair_manifolds;
   std::vector<CommonPlaneCache> pair_planes;    // per candidate pair (polyhedron pairs only)
-  std::vector<ContactManifold> wall_manifolds;  // body-major, wall-minor
+  std::vector<std::pair<int, int>> wall_pairs;  // (body, wall) within reach, body-major
+  std::vector<ContactManifold> wall_manifolds;  // per wall pair
   std::vector<SolverContact> contacts;
 };
 

@@ -180,7 +180,7 @@ void World::detect() {
     return v;
   };
   auto radius = [&](int i) { return scene_.bodies[static_cast<std::size_t>(i)].radius * body_scale(i); };
-  s.pair_manifolds.assign(s.pairs.size(), ContactManifold{});
+  s.pair_manifolds.resize(s.pairs.size());  // every slot's count is set below
   const int np = static_cast<int>(s.pairs.size());
   // Common planes of the last step, looked up by pair (both lists are sorted).
   s.pair_planes.assign(s.pairs.size(), CommonPlaneCache{});
@@ -197,6 +197,7 @@ void World::detect() {
   for (int k = 0; k < np; ++k) {
     const int a = s.pairs[static_cast<std::size_t>(k)].first, b = s.pairs[static_cast<std::size_t>(k)].second;
     ContactManifold& m = s.pair_manifolds[static_cast<std::size_t>(k)];
+    m.count = 0;
     const BodyDef& A = scene_.bodies[static_cast<std::size_t>(a)];
     const BodyDef& B = scene_.bodies[static_cast<std::size_t>(b)];
     if (A.fixed && B.fixed) continue;
@@ -222,20 +223,31 @@ void World::detect() {
     if (s.pair_planes[static_cast<std::size_t>(k)].valid)
       state_.planes.push_back({s.pairs[static_cast<std::size_t>(k)].first, s.pairs[static_cast<std::size_t>(k)].second,
                                s.pair_planes[static_cast<std::size_t>(k)]});
-  s.wall_manifolds.assign(static_cast<std::size_t>(n) * static_cast<std::size_t>(nw), ContactManifold{});
+  // Bodies against walls: (body, wall) candidates whose bounding sphere reaches within
+  // the margin of the wall plane, body-major, then the narrow phase for those only.
   std::vector<Vec3> wall_points(static_cast<std::size_t>(nw));
   for (int w = 0; w < nw; ++w) wall_points[static_cast<std::size_t>(w)] = wall_point(w);
-#pragma omp parallel for schedule(dynamic, 64) if (n > kParallelMin)
+  s.wall_pairs.clear();
   for (int i = 0; i < n; ++i) {
-    const BodyDef& b = scene_.bodies[static_cast<std::size_t>(i)];
-    if (b.fixed) continue;
+    if (scene_.bodies[static_cast<std::size_t>(i)].fixed) continue;
     for (int w = 0; w < nw; ++w) {
       const WallDef& wall = scene_.container.walls[static_cast<std::size_t>(w)];
-      ContactManifold& m = s.wall_manifolds[static_cast<std::size_t>(i) * static_cast<std::size_t>(nw) + static_cast<std::size_t>(w)];
-      const Vec3& p = wall_points[static_cast<std::size_t>(w)];
-      if (b.kind == ShapeKind::Sphere) collide_sphere_plane(state_.x[i], radius(i), wall.normal, p, margin, m);
-      else collide_polyhedron_plane(view(i), wall.normal, p, margin, m);
+      if (wall.normal.dot(s.centers[static_cast<std::size_t>(i)] - wall_points[static_cast<std::size_t>(w)]) -
+              s.radii[static_cast<std::size_t>(i)] <= margin)
+        s.wall_pairs.emplace_back(i, w);
     }
+  }
+  const int nwp = static_cast<int>(s.wall_pairs.size());
+  s.wall_manifolds.resize(s.wall_pairs.size());
+#pragma omp parallel for schedule(dynamic, 64) if (nwp > kParallelMin)
+  for (int k = 0; k < nwp; ++k) {
+    const int i = s.wall_pairs[static_cast<std::size_t>(k)].first, w = s.wall_pairs[static_cast<std::size_t>(k)].second;
+    const BodyDef& b = scene_.bodies[static_cast<std::size_t>(i)];
+    const WallDef& wall = scene_.container.walls[static_cast<std::size_t>(w)];
+    ContactManifold& m = s.wall_manifolds[static_cast<std::size_t>(k)];
+    const Vec3& p = wall_points[static_cast<std::size_t>(w)];
+    if (b.kind == ShapeKind::Sphere) collide_sphere_plane(state_.x[i], radius(i), wall.normal, p, margin, m);
+    else collide_polyhedron_plane(view(i), wall.normal, p, margin, m);
   }
   // Gather in a fixed order: body pairs (sorted), then bodies against walls.
   s.contacts.clear();
@@ -250,35 +262,41 @@ void World::detect() {
       s.contacts.push_back(sc);
     }
   }
-  for (int i = 0; i < n; ++i)
-    for (int w = 0; w < nw; ++w) {
-      const ContactManifold& m = s.wall_manifolds[static_cast<std::size_t>(i) * static_cast<std::size_t>(nw) + static_cast<std::size_t>(w)];
-      for (int c = 0; c < m.count; ++c) {
-        SolverContact sc;
-        sc.a = i;
-        sc.b = -1 - w;
-        sc.geometry = m.points[static_cast<std::size_t>(c)];
-        sc.mu = scene_.materials.wall_friction;
-        s.contacts.push_back(sc);
-      }
+  for (int k = 0; k < nwp; ++k) {
+    const ContactManifold& m = s.wall_manifolds[static_cast<std::size_t>(k)];
+    for (int c = 0; c < m.count; ++c) {
+      SolverContact sc;
+      sc.a = s.wall_pairs[static_cast<std::size_t>(k)].first;
+      sc.b = -1 - s.wall_pairs[static_cast<std::size_t>(k)].second;
+      sc.geometry = m.points[static_cast<std::size_t>(c)];
+      sc.mu = scene_.materials.wall_friction;
+      s.contacts.push_back(sc);
     }
+  }
 }
 
-// Relative velocity of A with respect to B at the contact point (world frame),
-// including the expansion velocity.
-Vec3 World::relative_velocity(const SolverContact& c) const {
-  Vec3 u = state_.v[c.a] + state_.w[c.a].cross(c.ra) + c.u_expansion;
-  if (c.b >= 0) u -= state_.v[c.b] + state_.w[c.b].cross(c.rb);
+// Local relative velocity of A with respect to B at the contact (n, t1, t2), with the
+// expansion velocity: u = F^T (v_a - v_b) + J_a w_a - J_b w_b + u0.
+Vec3 World::local_velocity(const SolverContact& c) const {
+  Vec3 dv = state_.v[c.a];
+  if (c.b >= 0) dv -= state_.v[c.b];
+  Vec3 u = c.F.transpose() * dv + c.u0;
+  if (rotation_on_) {
+    u += c.Ja * state_.w[c.a];
+    if (c.b >= 0) u -= c.Jb * state_.w[c.b];
+  }
   return u;
 }
 
-void World::apply_impulse(const SolverContact& c, const Vec3& P) {
-  StepScratch& s = scratch_;
+// Applies the local impulse change d (on A, minus on B): v += m^-1 F d, w += M d.
+void World::apply_local_impulse(const SolverContact& c, const Vec3& d) {
+  const StepScratch& s = scratch_;
+  const Vec3 P = c.F * d;
   state_.v[c.a] += s.inv_mass[c.a] * P;
-  if (rotation_on_) state_.w[c.a] += s.inv_inertia[c.a] * c.ra.cross(P);
+  if (rotation_on_) state_.w[c.a] += c.Ma * d;
   if (c.b >= 0) {
     state_.v[c.b] -= s.inv_mass[c.b] * P;
-    if (rotation_on_) state_.w[c.b] -= s.inv_inertia[c.b] * c.rb.cross(P);
+    if (rotation_on_) state_.w[c.b] -= c.Mb * d;
   }
 }
 
@@ -288,7 +306,7 @@ void World::build_solver_contacts() {
   StepScratch& s = scratch_;
   const double h = scene_.dt;
   const double p_gap = scene_.solver.p_gap;
-  const Vec3& c0 = scene_.container.scale_center;
+  [[maybe_unused]] const Vec3& c0 = scene_.container.scale_center;  // unused in the planted build
   for (SolverContact& c : s.contacts) {
     const Vec3& n = c.geometry.normal;
     const Vec3& p = c.geometry.point;
@@ -304,7 +322,9 @@ void World::build_solver_contacts() {
       K += s.inv_mass[c.b] * Mat3::Identity() - skew(c.rb) * s.inv_inertia[c.b] * skew(c.rb);
       c.u_expansion -= eps_of(c.b) * c.rb;
     } else if (scene_.container.walls[static_cast<std::size_t>(-1 - c.b)].expands) {
+#ifndef RATCHET_PLANTED_DROP_WALL_EXPANSION  // planted regression (regression/CMakeLists.txt) only
       c.u_expansion -= scratch_.eps_c * (p - c0);
+#endif
     }
     // Columns computed one by one with the same expressions in the frictionless and
     // the frictional case, so that mu = 0 reproduces friction-off bit for bit.
@@ -318,6 +338,23 @@ void World::build_solver_contacts() {
       c.W(0, 1) = n.dot(Kt1);   c.W(1, 1) = c.t1.dot(Kt1); c.W(2, 1) = c.t2.dot(Kt1);
       c.W(0, 2) = n.dot(Kt2);   c.W(1, 2) = c.t1.dot(Kt2); c.W(2, 2) = c.t2.dot(Kt2);
     }
+    c.F.col(0) = n;
+    c.F.col(1) = c.t1;
+    c.F.col(2) = c.t2;
+    if (rotation_on_) {
+      for (int k = 0; k < 3; ++k) {
+        const Vec3 ra_e = c.ra.cross(c.F.col(k));
+        c.Ja.row(k) = ra_e.transpose();
+        c.Ma.col(k) = s.inv_inertia[c.a] * ra_e;
+        if (c.b >= 0) {
+          const Vec3 rb_e = c.rb.cross(c.F.col(k));
+          c.Jb.row(k) = rb_e.transpose();
+          c.Mb.col(k) = s.inv_inertia[c.b] * rb_e;
+        }
+      }
+    }
+    if (friction_on_) c.W_inv = c.W.inverse();
+    c.u0 = c.F.transpose() * c.u_expansion;
     // Gap relaxation (design.md s. 2): an overlap closes at p_gap g / h per step.
     const double g = c.geometry.gap;
     const double g_eff = g >= 0.0 ? g : p_gap * g;
@@ -350,7 +387,7 @@ void World::warm_start() {
       lambda[2] = l2;
     }
     c.lambda = lambda;
-    apply_impulse(c, c.geometry.normal * lambda[0] + c.t1 * lambda[1] + c.t2 * lambda[2]);
+    apply_local_impulse(c, lambda);
   }
 }
 
@@ -368,22 +405,20 @@ void World::gauss_seidel() {
   for (it = 1; it <= scene_.solver.max_iterations && !cs.empty(); ++it) {
     double d2 = 0.0, l2 = 0.0;
     for (SolverContact& c : cs) {
-      const Vec3 u_world = relative_velocity(c);
-      const Vec3& n = c.geometry.normal;
+      const Vec3 u = local_velocity(c);
       Vec3 lambda_new;
       if (friction_on_) {
         // w = u - W lambda (velocity without this contact's impulse) + bias on the normal.
-        const Vec3 u(n.dot(u_world), c.t1.dot(u_world), c.t2.dot(u_world));
         Vec3 w = u - c.W * c.lambda;
         w[0] += c.bias;
-        lambda_new = solve_local_coulomb(c.W, w, c.mu).lambda;
+        lambda_new = solve_local_coulomb(c.W, c.W_inv, w, c.mu).lambda;
         ++tangential;
       } else {
-        const double w_n = n.dot(u_world) - c.W(0, 0) * c.lambda[0] + c.bias;
+        const double w_n = u[0] - c.W(0, 0) * c.lambda[0] + c.bias;
         lambda_new = Vec3(solve_local_normal(c.W(0, 0), w_n), 0.0, 0.0);
       }
       const Vec3 d = lambda_new - c.lambda;
-      if (d.squaredNorm() > 0.0) apply_impulse(c, n * d[0] + c.t1 * d[1] + c.t2 * d[2]);
+      if (d.squaredNorm() > 0.0) apply_local_impulse(c, d);
       c.lambda = lambda_new;
       d2 += d.squaredNorm();
       l2 += lambda_new.squaredNorm();

@@ -73,8 +73,8 @@ class World {
   void build_solver_contacts();
   void warm_start();
   void gauss_seidel();
-  void apply_impulse(const SolverContact& c, const Vec3& P);
-  Vec3 relative_velocity(const SolverContact& c) const;
+  void apply_local_impulse(const SolverContact& c, const Vec3& d);
+  Vec3 local_velocity(const SolverContact& c) const;
 
   SceneDef scene_;
   State state_;

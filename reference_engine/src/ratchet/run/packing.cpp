@@ -1,0 +1,177 @@
+#include "ratchet/run/packing.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "ratchet/io/state_file.hpp"
+#include "ratchet/run/runner.hpp"
+
+namespace ratchet {
+
+using nlohmann::json;
+
+namespace {
+
+// Bumped whenever the rule of packing_scene changes, so old packings stop matching.
+constexpr const char* kKeySalt = "ratchet packing key 1\n";
+
+std::string shown(const json& j) {
+  std::string s = j.dump();
+  return s.size() > 40 ? s.substr(0, 37) + "..." : s;
+}
+
+// The first few fields in which two scenes differ, as "field 'a.b' is X in the
+// packing's scene and Y in this one".
+void differences(const json& a, const json& b, const std::string& path, std::vector<std::string>& out) {
+  if (out.size() >= 3 || a == b) return;
+  if (a.is_object() && b.is_object()) {
+    std::vector<std::string> keys;
+    for (auto it = a.begin(); it != a.end(); ++it) keys.push_back(it.key());
+    for (auto it = b.begin(); it != b.end(); ++it) keys.push_back(it.key());
+    std::sort(keys.begin(), keys.end());
+    keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
+    for (const std::string& k : keys) {
+      const std::string p = path.empty() ? k : path + "." + k;
+      if (!a.contains(k)) out.push_back("field '" + p + "' is absent in the packing's scene and " + shown(b.at(k)) + " in this one");
+      else if (!b.contains(k)) out.push_back("field '" + p + "' is " + shown(a.at(k)) + " in the packing's scene and absent in this one");
+      else differences(a.at(k), b.at(k), p, out);
+      if (out.size() >= 3) return;
+    }
+    return;
+  }
+  out.push_back("field '" + (path.empty() ? std::string("(top level)") : path) + "' is " + shown(a) +
+                " in the packing's scene and " + shown(b) + " in this one");
+}
+
+}  // namespace
+
+json packing_scene(const json& scene) {
+  json j = scene;
+  if (!j.is_object()) return j;
+  for (const char* k : {"name", "description", "outputs"}) j.erase(k);
+  if (!j.contains("seed")) j["seed"] = 1;  // the default, written out: a sweep always writes it
+  if (j.contains("time") && j["time"].is_object()) j["time"].erase("duration");
+  if (j.contains("solver") && j["solver"].is_object()) j["solver"].erase("threads");  // results do not depend on it
+  // T stays T0 (so s_p = s_c = 1) while t - start_time <= 0: the shape of the cycle
+  // and the expansion coefficients cannot act before then.
+  if (j.contains("thermal") && j["thermal"].is_object())
+    for (const char* k : {"T1", "heat_time", "hold_time", "cool_time", "cycles", "alpha_p", "alpha_c"}) j["thermal"].erase(k);
+  return j;
+}
+
+std::string packing_key(const SceneDef& scene) { return fnv1a_hex(kKeySalt + packing_scene(scene.as_run).dump()); }
+
+bool has_settle_stage(const SceneDef& scene) { return scene.thermal.enabled; }
+
+namespace {
+// Same expression as temperature(): t_abs = t + h, then t_abs - start_time <= 0.
+bool settles_after(const SceneDef& s, double t) {
+  return has_settle_stage(s) && (t + s.dt) - s.thermal.start_time <= 0.0;
+}
+}  // namespace
+
+bool next_step_settles(const World& world) { return settles_after(world.scene(), world.state().t); }
+
+SettleMonitor::SettleMonitor(const World& world) : threshold_(world.scene().settle_ke_ratio) {
+  done_ = !has_settle_stage(world.scene());
+  if (done_) return;
+  observe(world);
+  done_ = !next_step_settles(world);
+}
+
+void SettleMonitor::after_step(const World& world) {
+  if (done_) return;
+  observe(world);
+  done_ = !next_step_settles(world);
+}
+
+void SettleMonitor::observe(const World& world) {
+  ke_ = world.kinetic_energy();
+  peak_ = std::max(peak_, ke_);
+  t_ = world.state().t;
+  step_ = world.state().step;
+  if (threshold_ > 0.0) {
+    const bool below = ke_ <= threshold_ * peak_;
+    if (below && !below_) t_below_ = t_;
+    below_ = below;
+  }
+}
+
+json SettleMonitor::record() const {
+  const bool check = threshold_ > 0.0;
+  return json{{"t_end", t_},
+              {"step_end", step_},
+              {"ke_peak", peak_},
+              {"ke_end", ke_},
+              {"ke_ratio", peak_ > 0.0 ? json(ke_ / peak_) : json(nullptr)},
+              {"ke_ratio_threshold", check ? json(threshold_) : json(nullptr)},
+              {"reached", check ? json(below_) : json(nullptr)},
+              {"t_settled", check && below_ ? json(t_below_) : json(nullptr)}};
+}
+
+json settle_world(World& world, const std::function<void(const World&)>& each_step) {
+  const SceneDef& s = world.scene();
+  if (!has_settle_stage(s))
+    throw std::invalid_argument(s.source + ": field 'thermal': expected a thermal section (the settle stage ends at "
+                                           "thermal.start_time)");
+  SettleMonitor monitor(world);
+  while (!monitor.done()) {
+    world.step();
+    if (!std::isfinite(world.kinetic_energy()))
+      throw RunError(s.source + ": the state became non-finite at step " + std::to_string(world.state().step) +
+                     " (t = " + std::to_string(world.state().t) + ") while settling; the time step may be too large");
+    monitor.after_step(world);
+    if (each_step) each_step(world);
+  }
+  return monitor.record();
+}
+
+void write_packing(const std::string& path, const World& world, const json& settle, const json& info) {
+  const SceneDef& s = world.scene();
+  StateFile f;
+  f.key = packing_key(s);
+  f.meta = info.is_object() ? info : json::object();
+  f.meta["key"] = f.key;
+  f.meta["bodies"] = s.bodies.size();
+  f.meta["packing_scene"] = packing_scene(s.as_run);
+  f.meta["settle"] = settle;
+  f.meta["made_from"] = {{"scene_file", s.source}, {"scene_hash", s.hash}};
+  f.meta["engine"] = {{"name", "ratchet"}, {"version", RATCHET_VERSION}, {"build_type", RATCHET_BUILD_TYPE}};
+  f.state = world.state();
+  write_state_file(path, f);
+}
+
+json load_packing(const std::string& path, World& world) {
+  const SceneDef& s = world.scene();
+  if (!has_settle_stage(s))
+    throw StateFileError(path + ": cannot start " + s.source +
+                         " from a packing: field 'thermal': expected a thermal section (a packing is the bed at "
+                         "thermal.start_time)");
+  StateFile f = read_state_file(path);
+  const std::string key = packing_key(s);
+  if (f.state.x.size() != s.bodies.size())
+    throw StateFileError(path + ": packing of " + std::to_string(f.state.x.size()) + " bodies, but " + s.source + " has " +
+                         std::to_string(s.bodies.size()));
+  if (f.key != key) {
+    std::vector<std::string> diff;
+    if (f.meta.contains("packing_scene")) differences(f.meta.at("packing_scene"), packing_scene(s.as_run), "", diff);
+    std::string what;
+    for (const std::string& d : diff) what += "; " + d;
+    throw StateFileError(path + ": packing of a different scene: its key is " + f.key + ", the packing key of " + s.source +
+                         " is " + key + what);
+  }
+  if (f.state.step > s.steps)
+    throw StateFileError(path + ": the packing ends at step " + std::to_string(f.state.step) + ", after the last step (" +
+                         std::to_string(s.steps) + ") of " + s.source + " (field 'time.duration')");
+  if (settles_after(s, f.state.t) || f.state.t - s.thermal.start_time > 0.0)
+    throw StateFileError(path + ": the packing (t = " + std::to_string(f.state.t) + ") does not end where the settle stage of " +
+                         s.source + " ends (thermal.start_time = " + std::to_string(s.thermal.start_time) + ")");
+  world.mutable_state() = std::move(f.state);
+  return f.meta;
+}
+
+json packing_reference(const std::string& path, const World& world) {
+  return json{{"file", path}, {"key", packing_key(world.scene())}, {"step", world.state().step}, {"t", world.state().t}};
+}
+
+}  // namespace ratchet

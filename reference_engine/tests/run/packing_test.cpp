@@ -1,0 +1,245 @@
+// Settled packings: the key, the settle check, refusal of a packing of another scene,
+// and the restart contract: a run from a packing writes the same rows, bit for bit, as
+// the run from t = 0 after the packing's step, also when the packing was made with
+// another thermal protocol (which the key leaves out).
+#include "ratchet/run/packing.hpp"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "ratchet/io/state_file.hpp"
+#include "ratchet/run/runner.hpp"
+
+namespace ratchet {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+using ::testing::HasSubstr;
+
+// Small and short: 14 polyhedra poured into a 4-degree cone, settled to t = 3, one
+// cycle. At dt 0.005 the settle stage ends a few ulps below start_time (step 600).
+json bed() {
+  return json::parse(R"({
+    "name": "pack", "seed": 5, "time": {"dt": 0.005},
+    "solver": {"tolerance": 1e-4, "max_iterations": 100},
+    "container": {"type": "cone", "bottom_radius": 2.5, "opening_angle_deg": 4.0},
+    "particles": {"generate": {"count": 14, "shape": "polyhedron", "vertices": 10, "radius_range": [0.3, 0.5]}},
+    "thermal": {"start_time": 3.0, "heat_time": 0.5, "hold_time": 0.25, "cool_time": 0.5, "cycles": 1,
+                "alpha_p": 1e-3, "alpha_c": 1e-2},
+    "settle": {"ke_ratio": 0.5},
+    "outputs": {"timeseries_every": 1, "bodies_every": 10, "volume": true, "segment_forces": true,
+                "steady_cycles": [0, 0], "pressure_window": 0.1,
+                "displacement": {"cell": 1.0, "windows": [[0, 1]]}, "wall_profile_bins": 3}
+  })");
+}
+
+json with(json j, const std::string& path, const json& value) {
+  apply_override(j, path + "=" + value.dump(), "test");
+  return j;
+}
+
+fs::path scratch(const std::string& name) {
+  const fs::path d = fs::temp_directory_path() / ("ratchet_packing_" + name);
+  fs::remove_all(d);
+  fs::create_directories(d);
+  return d;
+}
+
+std::vector<std::string> lines_of(const fs::path& p) {
+  std::ifstream in(p);
+  std::vector<std::string> out;
+  for (std::string l; std::getline(in, l);) out.push_back(l);
+  return out;
+}
+
+json read_json(const fs::path& p) {
+  std::ifstream in(p);
+  return json::parse(in);
+}
+
+std::vector<std::string> split(const std::string& row) {
+  std::vector<std::string> out;
+  std::stringstream ss(row);
+  for (std::string c; std::getline(ss, c, ',');) out.push_back(c);
+  return out;
+}
+
+// Rows after `step` (first column), without the wall-clock columns time_*.
+std::vector<std::string> rows_after(const fs::path& csv, long long step) {
+  const auto lines = lines_of(csv);
+  const auto header = split(lines.at(0));
+  std::vector<std::string> out;
+  for (std::size_t i = 1; i < lines.size(); ++i) {
+    const auto cells = split(lines[i]);
+    if (std::stoll(cells.at(0)) <= step) continue;
+    std::string kept;
+    for (std::size_t c = 0; c < cells.size(); ++c)
+      if (header.at(c).rfind("time_", 0) != 0) kept += cells[c] + ",";
+    out.push_back(kept);
+  }
+  return out;
+}
+
+std::string packing_of(const json& scene, const fs::path& file) {
+  World w(build_scene(scene, "packer.json"));
+  const json settle = settle_world(w);
+  write_packing(file.string(), w, settle);
+  return packing_key(w.scene());
+}
+
+TEST(Packing, KeyLeavesOutOnlyWhatCannotActBeforeStartTime) {
+  const std::string k = packing_key(build_scene(bed(), "a.json"));
+  EXPECT_EQ(k.size(), 16u);
+  for (const auto& [path, value] : std::vector<std::pair<std::string, json>>{
+           {"thermal.alpha_c", 1e-4}, {"thermal.alpha_p", 2e-4}, {"thermal.T1", 50}, {"thermal.heat_time", 2.0},
+           {"thermal.hold_time", 0.0}, {"thermal.cool_time", 3.0}, {"thermal.cycles", 4}, {"name", "other"},
+           {"description", "text"}, {"time.duration", 100.0}, {"solver.threads", 2},
+           {"outputs", json{{"timeseries_every", 7}}}})
+    EXPECT_EQ(packing_key(build_scene(with(bed(), path, value), "b.json")), k) << path;
+  json no_seed = with(bed(), "seed", 1);
+  const std::string k1 = packing_key(build_scene(no_seed, "c.json"));
+  no_seed.erase("seed");
+  EXPECT_EQ(packing_key(build_scene(no_seed, "c.json")), k1);  // the default seed, as a sweep writes it
+  for (const auto& [path, value] : std::vector<std::pair<std::string, json>>{
+           {"container.opening_angle_deg", 6.0}, {"seed", 6}, {"thermal.start_time", 2.5}, {"thermal.T0", 10.0},
+           {"time.dt", 0.004}, {"materials.friction", 0.3}, {"solver.p_gap", 0.2}, {"settle.ke_ratio", 0.1},
+           {"effects.container_expansion", false}, {"particles.generate.count", 13}})
+    EXPECT_NE(packing_key(build_scene(with(bed(), path, value), "b.json")), k) << path;
+}
+
+// The key test: pack with one thermal protocol, run another from the packing, and
+// compare with that other protocol's run from t = 0.
+TEST(Packing, RunFromPackingIsBitIdenticalAfterThePackingStep) {
+  const fs::path d = scratch("restart");
+  const json other = with(with(with(bed(), "thermal.alpha_c", 2.5e-3), "thermal.T1", 80), "thermal.heat_time", 0.75);
+  ASSERT_EQ(packing_key(build_scene(bed(), "a")), packing_key(build_scene(other, "b")));
+  {
+    World w(build_scene(other, "straight.json"));
+    RunOptions opt;
+    opt.out_dir = (d / "straight").string();
+    (void)run_world(w, opt);
+  }
+  const std::string key = packing_of(bed(), d / "p.state");
+  World w(build_scene(other, "restart.json"));
+  const json meta = load_packing((d / "p.state").string(), w);
+  const long long k = w.state().step;
+  EXPECT_EQ(k, 600);  // the last step with t <= start_time
+  EXPECT_LE(w.state().t, 3.0);
+  EXPECT_GT(w.state().t + 0.005, 3.0);
+  RunOptions opt;
+  opt.out_dir = (d / "restart").string();
+  opt.packing = packing_reference((d / "p.state").string(), w);
+  opt.packing_settle = meta.at("settle");
+  (void)run_world(w, opt);
+
+  for (const char* f : {"timeseries.csv", "bodies.csv"}) {
+    const auto a = rows_after(d / "straight" / f, k), b = rows_after(d / "restart" / f, k);
+    ASSERT_GT(a.size(), 10u) << f;
+    EXPECT_EQ(a, b) << f;
+  }
+  // The first row of the run from the packing is the packing's state (step k).
+  EXPECT_EQ(split(lines_of(d / "restart" / "bodies.csv").at(1)).at(0), std::to_string(k));
+  for (const char* f : {"cycles.csv", "wall_profile.csv", "displacement_0_1.csv"})
+    EXPECT_EQ(lines_of(d / "straight" / f), lines_of(d / "restart" / f)) << f;
+  const json a = read_json(d / "straight" / "run.json"), b = read_json(d / "restart" / "run.json");
+  EXPECT_EQ(a.at("summary"), b.at("summary"));
+  EXPECT_TRUE(a.at("summary").at("P_max").is_number());
+  EXPECT_EQ(a.at("settle"), b.at("settle"));  // recorded by the run, and copied from the packing
+  EXPECT_EQ(a.at("settle").at("step_end"), k);
+  EXPECT_TRUE(a.at("packing").is_null());
+  EXPECT_EQ(b.at("packing").at("key"), key);
+  EXPECT_EQ(b.at("packing").at("step"), k);
+  fs::remove_all(d);
+}
+
+TEST(Packing, PackingOfAnotherSceneIsRefusedBeforeAnythingChanges) {
+  const fs::path d = scratch("refused");
+  const std::string file = (d / "p.state").string();
+  (void)packing_of(bed(), file);
+  World w(build_scene(with(bed(), "container.opening_angle_deg", 0.0), "flat.json"));
+  const State before = w.state();
+  try {
+    (void)load_packing(file, w);
+    FAIL() << "a packing of a 4-degree cone was accepted for a 0-degree one";
+  } catch (const StateFileError& e) {
+    EXPECT_THAT(e.what(), HasSubstr(file + ": packing of a different scene"));
+    EXPECT_THAT(e.what(), HasSubstr("flat.json"));
+    EXPECT_THAT(e.what(), HasSubstr("field 'container.opening_angle_deg' is 4.0 in the packing's scene and 0.0 in this one"));
+  }
+  EXPECT_EQ(w.state().step, before.step);
+  EXPECT_EQ(w.state().x, before.x);
+  World fewer(build_scene(with(bed(), "particles.generate.count", 12), "fewer.json"));
+  try {
+    (void)load_packing(file, fewer);
+    FAIL();
+  } catch (const StateFileError& e) {
+    EXPECT_THAT(e.what(), HasSubstr(file + ": packing of 14 bodies, but fewer.json has 12"));
+  }
+  // A half-written packing is refused whole.
+  const std::string cut = (d / "cut.state").string();
+  std::string bytes;
+  {
+    std::ifstream in(file, std::ios::binary);
+    bytes.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  }
+  std::ofstream(cut, std::ios::binary) << bytes.substr(0, bytes.size() / 2);
+  World same(build_scene(bed(), "same.json"));
+  EXPECT_THROW((void)load_packing(cut, same), StateFileError);
+  EXPECT_EQ(same.state().step, 0);
+  // A run that ends before the packing does cannot start from it.
+  World shorter(build_scene(with(bed(), "time.duration", 2.0), "short.json"));
+  try {
+    (void)load_packing(file, shorter);
+    FAIL();
+  } catch (const StateFileError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("after the last step (400) of short.json"));
+  }
+  fs::remove_all(d);
+}
+
+TEST(Packing, SettleRecordChecksTheThreshold) {
+  World w(build_scene(bed(), "a.json"));
+  const json loose = settle_world(w);
+  EXPECT_EQ(loose.at("step_end"), w.state().step);
+  EXPECT_EQ(loose.at("t_end"), w.state().t);
+  EXPECT_GT(loose.at("ke_peak").get<double>(), 0.0);
+  EXPECT_EQ(loose.at("ke_ratio").get<double>(), loose.at("ke_end").get<double>() / loose.at("ke_peak").get<double>());
+  EXPECT_EQ(loose.at("ke_ratio_threshold"), 0.5);
+  // A settled bed ends far below half its peak energy, and has been for a while.
+  EXPECT_EQ(loose.at("reached"), true);
+  EXPECT_LT(loose.at("t_settled").get<double>(), loose.at("t_end").get<double>());
+  EXPECT_GT(loose.at("t_settled").get<double>(), 0.0);
+
+  World strict(build_scene(with(bed(), "settle.ke_ratio", 1e-300), "b.json"));
+  const json r = settle_world(strict);
+  EXPECT_EQ(r.at("reached"), false);
+  EXPECT_TRUE(r.at("t_settled").is_null());
+  EXPECT_EQ(r.at("ke_ratio"), loose.at("ke_ratio"));  // the threshold checks, it does not change the pour
+
+  json none = bed();
+  none.erase("settle");
+  World plain(build_scene(none, "c.json"));
+  const json n = settle_world(plain);
+  EXPECT_TRUE(n.at("reached").is_null());
+  EXPECT_TRUE(n.at("ke_ratio_threshold").is_null());
+  EXPECT_EQ(n.at("ke_ratio"), loose.at("ke_ratio"));
+}
+
+TEST(Packing, SceneWithoutThermalSectionHasNoSettleStage) {
+  json j = bed();
+  j.erase("thermal");
+  j.erase("settle");
+  j["time"]["duration"] = 0.1;
+  World w(build_scene(j, "cold.json"));
+  EXPECT_FALSE(has_settle_stage(w.scene()));
+  EXPECT_THROW((void)settle_world(w), std::invalid_argument);
+  EXPECT_THROW((void)load_packing("/nonexistent.state", w), StateFileError);
+}
+
+}  // namespace
+}  // namespace ratchet
