@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Cross-method validation, quick tier: NSCD (ratchet) against soft-sphere DEM (LIGGGHTS).
 
-    /usr/bin/python3 validation/liggghts/check.py [--out DIR] [--E 5e7 5e8] [--reuse]
+    /usr/bin/python3 validation/liggghts/check.py [--out DIR] [--E 5e7 5e8] [--reuse] [--restitution 0.9]
 
 Runs scripts/compare-methods on the two quick scenes of this folder (108 spheres in a
 16-sided container of apothem 4.5, opening angle 0 and 6 degrees: settling, then one
@@ -85,8 +85,9 @@ def check_abs(case, check, measured, expected, key):
     return record(case, check, measured, f"{expected:.6g}", f"abs {tol:g}", passed, reason)
 
 
-def run_compare(scene, out, Es, reuse):
-    cmd = [COMPARE, scene, "--out", out, "--E", *[f"{e:g}" for e in Es], "--parallel"]
+def run_compare(scene, out, Es, reuse, restitution):
+    cmd = [COMPARE, scene, "--out", out, "--E", *[f"{e:g}" for e in Es], "--restitution", f"{restitution:g}",
+           "--parallel"]
     if reuse:
         cmd.append("--reuse")
     print("check: " + " ".join(cmd), file=sys.stderr, flush=True)
@@ -108,6 +109,9 @@ def main(argv=None):
     ap.add_argument("--E", type=float, nargs="+", default=[5e7, 5e8],
                     help="Young's moduli of the DEM runs, Pa (default 5e7 5e8; the last is the stiffest)")
     ap.add_argument("--reuse", action="store_true", help="reuse finished runs in --out")
+    ap.add_argument("--restitution", type=float, default=0.9,
+                    help="DEM restitution (default 0.9: at 0.2 the cycle peak is mostly viscous damping, "
+                         "docs/liggghts.md)")
     args = ap.parse_args(argv)
     if shutil.which("liggghts") is None:
         print("check: liggghts is not installed (Debian package liggghts): skipped", file=sys.stderr)
@@ -117,7 +121,7 @@ def main(argv=None):
     summaries = {}
     try:
         for theta, scene in SCENES.items():
-            summaries[theta] = run_compare(scene, os.path.join(args.out, f"theta{theta}"), Es, args.reuse)
+            summaries[theta] = run_compare(scene, os.path.join(args.out, f"theta{theta}"), Es, args.reuse, args.restitution)
     except (RuntimeError, OSError, ValueError) as e:
         print(f"check: error: {e}", file=sys.stderr)
         return 2
