@@ -42,15 +42,16 @@ SCENES = {0: os.path.join(HERE, "quick_theta0.json"), 6: os.path.join(HERE, "qui
 TOL = {
     "phi_H": (0.10, "packing fraction up to the highest particle point: the top of a 7-8 r_max bed is one "
                     "particle rough, which moves H by ~0.3 r_max (4 %) between realizations"),
-    "phi_bulk": (0.05, "packing fraction below H - 2 r_max: same initial lattice, same friction; soft-sphere "
-                       "settling with restitution 0.2 against fully inelastic NSCD impacts"),
+    "phi_bulk": (0.08, "packing fraction below H - 2 r_max: same initial lattice, same friction; the DEM at "
+                       "restitution 0.9 rattles longer and packs denser (0.53 against 0.51 at restitution 0.2) "
+                       "than fully inelastic NSCD impacts, whose bed is still settling at start_time"),
     "pressure_static": (0.40, "mean side-wall pressure of one small settled bed: the contact network differs "
                               "between realizations (the DEM runs alone scatter by +-25 %)"),
     "bottom_fraction": (0.15, "abs: floor force / weight (Janssen redirection); NSCD floors carry 0.85-1.12 W "
                               "in these beds, the DEM 0.79-1.01 W"),
-    "peak": (0.35, "peak pressure of one cycle: the DEM peak grows with E towards the rigid limit (0.40, 0.61, "
-                   "0.85 of the NSCD peak at E = 5e6, 5e7, 5e8 Pa on the 0-degree case) and the NSCD pressure "
-                   "is spiky (moving average 0.5 before the peak)"),
+    "peak": (0.35, "peak pressure of one cycle, stiffest DEM (restitution 0.9) against NSCD: measured -18 % at "
+                   "0 deg and -8 % at 6 deg at 5e8 Pa; one realization each, a 108-sphere bed, and the NSCD "
+                   "pressure is spiky (moving average 0.5 before the peak)"),
 }
 
 
@@ -167,11 +168,16 @@ def main(argv=None):
             ok &= check_rel(case, f"peak pressure cycle {c} ({stiff} vs NSCD)", b, a, "peak")
         peaks[theta] = (sum(n_peak) / len(n_peak), sum(d_peak) / len(d_peak))
         if len(Es) > 1:
+            # Stiffness convergence: the DEM peak approaches the rigid (NSCD) one as E rises.
+            # Not monotone in E at low damping (a soft bed rings: 21.4 at 5e7 Pa against NSCD
+            # 11.0 on the 0-degree case), so the distance to NSCD is checked, not the DEM peak.
             soft = cyc[f"{label(Es[0])}_peak_pressure"]
-            ratio = (sum(d_peak) / len(d_peak)) / (sum(soft) / len(soft))
-            ok &= record(case, f"DEM peak {Es[-1]:.3g} Pa / {Es[0]:.3g} Pa", ratio, "> 1", "lower bound 1",
-                         ratio > 1.0, "a stiffer bed resists the contracting container more: the DEM peak grows "
-                                      "with E towards the rigid (NSCD) limit")
+            n_mean = sum(n_peak) / len(n_peak)
+            gap_soft = abs(sum(soft) / len(soft) - n_mean) / n_mean
+            gap_stiff = abs(sum(d_peak) / len(d_peak) - n_mean) / n_mean
+            ok &= record(case, f"|DEM - NSCD| / NSCD peak, {Es[-1]:.3g} Pa", gap_stiff, f"< {gap_soft:.4g} "
+                         f"(at {Es[0]:.3g} Pa)", "upper bound: the softer run's difference", gap_stiff < gap_soft,
+                         "stiffness convergence: as E rises the DEM peak approaches the rigid NSCD peak")
     if 0 in peaks and 6 in peaks:
         case = "liggghts_quick_trend"
         for i, name in ((0, "NSCD"), (1, f"DEM {stiff}")):
