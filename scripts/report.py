@@ -27,7 +27,6 @@ import math
 import os
 import subprocess
 import sys
-import tempfile
 import urllib.parse
 from pathlib import Path
 from typing import Iterable, Sequence
@@ -36,6 +35,9 @@ from typing import Iterable, Sequence
 os.environ.setdefault("MPLBACKEND", "Agg")
 
 import pandas as pd  # noqa: E402  (after the backend choice, as later plot code needs)
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))  # scripts/, for liggghts.fsutil
+from liggghts.fsutil import write_atomic as _fsutil_write_atomic  # noqa: E402
 
 REPO_ROOT = Path(__file__).resolve().parent.parent
 
@@ -359,26 +361,11 @@ def write_atomic(path: str | os.PathLike, content: str | bytes) -> None:
     """Writes a temporary file beside path, then renames it over path.
 
     A reader sees either the old file or the complete new one, never a partial
-    file; on any error the temporary file is removed.
+    file; on any error the temporary file is removed (liggghts/fsutil.py, the
+    scripts' one atomic writer).
     """
-    path = Path(path)
     data = content.encode("utf-8") if isinstance(content, str) else content
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
-    try:
-        with os.fdopen(fd, "wb") as stream:
-            stream.write(data)
-            stream.flush()
-            os.fsync(stream.fileno())
-        umask = os.umask(0)
-        os.umask(umask)
-        os.chmod(tmp, 0o666 & ~umask)  # mkstemp makes 0600; give the usual file mode
-        os.replace(tmp, path)
-    except BaseException:
-        try:
-            os.unlink(tmp)
-        except FileNotFoundError:
-            pass
-        raise
+    _fsutil_write_atomic(os.fspath(path), data, mode="wb")
 
 
 def _remove_stale_reports(out_dir: Path) -> list[Path]:
