@@ -15,20 +15,22 @@
 // (h = 5e-3, tolerance 1e-3, at most 30 sweeps per step: settling at tolerance 1e-4
 // costs hundreds of sweeps per step, hours for the larger N) until the kinetic energy
 // is below 1e-8 of its peak, or for at most 30 time units after the top layer could
-// have landed; then at least 300 and at most 2000 steps of the benchmark's own scene, the first 200 with
-// every velocity zeroed after the step (kinetic damping, see bring_to_rest),
-// (h = 1e-3, tolerance 1e-4) bring it to rest under the benchmark's solver and rebuild
-// the warm start: until KE < 1e-9 of the peak and a step needs at most 10 sweeps (a
-// static bed, warm started, needs a few). A cached state is checked against the same
-// rule (one step) and rested further if it fails. The state (poses, velocities, kept impulses and common planes) is cached
-// in $RATCHET_BENCH_CACHE (default /tmp/ratchet_step_bench), keyed by N and the
-// generated bodies (FNV-1a of the scene hash and every body's mass, bounding radius and
-// initial position, so a change of the generator invalidates it), so later runs start
-// from it at once (RATCHET_BENCH_REST_STEPS=K caps the resting at K steps). The settling reached is reported in
-// the counters (KE_ratio: kinetic energy / its peak during the pour, at the end of the
-// timed steps) and on stderr. Each timed iteration is one step of
-// that bed, restarted from the rested state for every benchmark run (so 1 and 2
-// threads step the same bed); 5 untimed steps come first.
+// have landed. Then steps of the benchmark's own scene (h = 1e-3, tolerance 1e-4) bring
+// it to rest and rebuild the warm start: the first 200 with every velocity zeroed after
+// the step (kinetic damping, see bring_to_rest), then until KE < 1e-9 of the peak and a
+// step needs at most 10 sweeps (a static bed, warm started, needs a few), at least 300
+// and at most 2000 steps in all (RATCHET_BENCH_REST_STEPS=K caps them at K). A cached
+// state goes through the same rest again.
+//
+// The state (poses, velocities, kept impulses and common planes) is cached in
+// $RATCHET_BENCH_CACHE (default /tmp/ratchet_step_bench, io/state_file format), keyed
+// by N and the generated bodies (FNV-1a of the scene hash and every body's mass,
+// bounding radius and initial position, so a change of the generator invalidates it),
+// so later runs start from it at once. The settling reached is reported in the counters
+// (KE_ratio: kinetic energy / its peak during the pour, at the end of the timed steps)
+// and on stderr. Each timed iteration is one step of that bed, restarted from the
+// rested state for every benchmark run (so 1 and 2 threads step the same bed); 5
+// untimed steps come first. Figures and commands: docs/performance.md.
 #include <benchmark/benchmark.h>
 #include <omp.h>
 
