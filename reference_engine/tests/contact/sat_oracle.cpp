@@ -5,6 +5,8 @@
 #include <limits>
 #include <vector>
 
+#include "ratchet/contact/narrow_phase.hpp"  // closest_point_on_triangle (its own unit test: narrow_phase_test)
+
 namespace ratchet::test {
 
 namespace {
@@ -21,29 +23,6 @@ void extent(const PolyhedronView& p, const Vec3& n, double& lo, double& hi) {
     lo = std::min(lo, x);
     hi = std::max(hi, x);
   }
-}
-
-// Ericson 2005, Real-Time Collision Detection, s. 5.1.5 (ClosestPtPointTriangle).
-Vec3 closest_point_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
-  const Vec3 ab = b - a, ac = c - a, ap = p - a;
-  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
-  if (d1 <= 0.0 && d2 <= 0.0) return a;
-  const Vec3 bp = p - b;
-  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
-  if (d3 >= 0.0 && d4 <= d3) return b;
-  const double vc = d1 * d4 - d3 * d2;
-  if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0) return a + ab * (d1 / (d1 - d3));
-  const Vec3 cp = p - c;
-  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
-  if (d6 >= 0.0 && d5 <= d6) return c;
-  const double vb = d5 * d2 - d1 * d6;
-  if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0) return a + ac * (d2 / (d2 - d6));
-  const double va = d3 * d6 - d5 * d4;
-  if (va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0)
-    return b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)));
-  // Interior: orthogonal projection onto the plane (better conditioned than barycentric).
-  const Vec3 n = ab.cross(ac);
-  return p - n * (n.dot(ap) / n.squaredNorm());
 }
 
 // Ericson 2005, s. 5.1.9 (ClosestPtSegmentSegment): closest points c1 on p1q1, c2 on p2q2.
@@ -80,7 +59,7 @@ Vec3 brute_force_link(const PolyhedronView& a, const PolyhedronView& b) {
       for (const auto& face : q.shape->faces) {
         const Vec3& v0 = q.world_vertices[face[0]];
         for (std::size_t k = 1; k + 1 < face.size(); ++k) {
-          const Vec3 y = closest_point_triangle(x, v0, q.world_vertices[face[k]], q.world_vertices[face[k + 1]]);
+          const Vec3 y = closest_point_on_triangle(x, v0, q.world_vertices[face[k]], q.world_vertices[face[k + 1]]);
           offer(sign * (x - y));
         }
       }
