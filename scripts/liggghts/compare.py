@@ -336,7 +336,8 @@ def parse_args(argv):
                     help="time window at the end of settling over which static forces are averaged (default 2)")
     ap.add_argument("--profile-bins", type=int, default=4,
                     help="bands of the side-wall stress profile (DEM at the end of settling and of each cooling; "
-                         "the engine too when its build has outputs.wall_profile_bins); 0: none (default 4)")
+                         "the engine averaged over --static-average before cycling and over each cold hold); "
+                         "0: none (default 4)")
     ap.add_argument("--parallel", action="store_true",
                     help="run the engine (1 OpenMP thread) at the same time as the LIGGGHTS runs")
     ap.add_argument("--reuse", action="store_true",
@@ -369,11 +370,15 @@ def _main(args):
         raise CompareError(f"the engine rejects the scene: {msg}")
     extra_sets = []
     if args.profile_bins > 0 and scene.container_type == "cone" and scene.thermal is not None:
-        probe = f"outputs.wall_profile_bins={args.profile_bins}"
-        if engine_check_scene(ratchet, os.path.abspath(args.scene), [probe])[0]:
-            extra_sets.append(probe)
+        # The engine's profile of the settled bed is averaged over the same window as the
+        # static forces (NSCD wall impulses are intermittent; one step is mostly zeros).
+        probe = [f"outputs.wall_profile_bins={args.profile_bins}",
+                 f"outputs.settled_profile_time={args.static_average:g}"]
+        if engine_check_scene(ratchet, os.path.abspath(args.scene), probe)[0]:
+            extra_sets.extend(probe)
         else:
-            say("this engine build has no outputs.wall_profile_bins: wall profiles from the DEM only")
+            say("this engine build has no outputs.wall_profile_bins / settled_profile_time: wall profiles from "
+                "the DEM only")
 
     proc = None
     if args.reuse and engine_complete(engine_dir):
@@ -454,7 +459,7 @@ def _main(args):
         summary["static_time"] = t_end
 
     # Side-wall stress profiles: DEM at the end of settling and of every cooling ramp;
-    # the engine's wall_profile.csv (end of every cooling) when this build writes it.
+    # the engine's wall_profile.csv (settled bed, then every cold hold) when this build writes it.
     if args.profile_bins > 0 and scene.container_type == "cone":
         prof = []
         for E in Es:
@@ -472,7 +477,8 @@ def _main(args):
         ep = os.path.join(engine_dir, "wall_profile.csv")
         if os.path.exists(ep):
             e = pd.read_csv(ep, float_precision="round_trip")
-            e.insert(0, "moment", "end_of_cooling")
+            # cycle -1: the settled bed, averaged over the last --static-average before cycling.
+            e.insert(0, "moment", np.where(e["cycle"] < 0, "end_of_settling", "end_of_cooling"))
             e.insert(0, "method", "nscd")
             prof.append(e[["method", "moment", "cycle", "t", "bin", "z_lo", "z_hi", "wall_stress"]])
         if prof:

@@ -405,6 +405,11 @@ def build_scene(j, source):
     name = j.get("name", "")
     if not isinstance(name, str) or not name:
         r.fail("name", "a non-empty string", j.get("name"))
+    if "settle" in j:
+        # A settle section ends the settle stage when the engine's bed comes to rest, a
+        # time the deck cannot know in advance; the deck needs thermal.start_time.
+        r.fail("settle", "no settle section in a scene for LIGGGHTS (the deck's thermal schedule is fixed "
+               "in advance: set thermal.start_time instead)", j["settle"])
     seed = r.integer(j, "", "seed", 1, 0, 2 ** 63 - 1)
     gravity = r.vec3(j["gravity"], "gravity") if "gravity" in j else (0.0, 0.0, -1.0)
     effects = dict(gravity=True, friction=True, rotation=True, particle_expansion=True, container_expansion=True)

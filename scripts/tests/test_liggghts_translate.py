@@ -108,6 +108,7 @@ def test_generation_is_deterministic_and_seeded():
                                                "position": [0, 0, 2]}]}), "particles.bodies[0].shape"),
     (lambda j: j.update(time={"dt": 0.01}), "time.duration"),
     (lambda j: j.update(gravity=[0, 0]), "gravity"),
+    (lambda j: j.update(settle={"ke_ratio": 1e-6, "max_time": 20}), "settle"),  # the deck's schedule is fixed
 ])
 def test_scene_errors_name_file_and_field(mutate, field):
     j = scene_json()

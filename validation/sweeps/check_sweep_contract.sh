@@ -2,7 +2,7 @@
 # The sweep contract (issue: thermally cycled bed): the summary of a sweep is the same
 # bit for bit whether it runs locally, under mpirun with 2 ranks, or is stopped and
 # started again (the finished runs are skipped); and runs that differ only in what
-# cannot act before thermal.start_time start from one shared settled packing.
+# cannot act before the settle stage ends start from one shared settled packing.
 #   check_sweep_contract.sh RATCHET_BIN WORK_DIR
 set -euo pipefail
 bin="$1"; work="$2"
@@ -10,7 +10,7 @@ here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 rm -rf "$work"; mkdir -p "$work"
 cat > "$work/sweep.json" <<JSON
 {"scene": "$here/bed_quick.json",
- "set": {"particles.generate.count": 12, "thermal.start_time": 4.0, "thermal.cycles": 1, "time.dt": 0.005},
+ "set": {"particles.generate.count": 12, "settle.ke_ratio": 1e-3, "thermal.cycles": 1, "time.dt": 0.005},
  "grid": {"container.opening_angle_deg": [0, 6]}, "realizations": 2}
 JSON
 fail() { echo "check_sweep_contract: FAILED: $*" >&2; exit 1; }
@@ -38,11 +38,11 @@ grep -q "2 of 4 runs already completed; running 2" <<<"$out" || fail "resume did
 grep -q "packing unusable, making it again: .*$key1" <<<"$out" || fail "resume did not notice the cut packing: $out"
 grep -q "1 of 2 packings already made; making 1" <<<"$out" || fail "resume did not reuse the whole packing: $out"
 cmp "$work/local/summary.csv" "$work/mpi/summary.csv" || fail "summary after resume differs"
-# Ratio grid (2 points) x 2 seeds: alpha_c cannot act before start_time, so exactly 2
-# packings, and both grid points of a seed start from the same state.
+# Ratio grid (2 points) x 2 seeds: alpha_c cannot act before the settle stage ends, so
+# exactly 2 packings, and both grid points of a seed start from the same state.
 cat > "$work/ratio.json" <<JSON
 {"scene": "$here/bed_quick.json",
- "set": {"particles.generate.count": 12, "thermal.start_time": 4.0, "thermal.cycles": 1, "time.dt": 0.005,
+ "set": {"particles.generate.count": 12, "settle.ke_ratio": 1e-3, "thermal.cycles": 1, "time.dt": 0.005,
          "outputs.bodies_every": 100},
  "grid": {"thermal.alpha_c": [2.5e-4, 1e-3]}, "realizations": 2}
 JSON
@@ -50,7 +50,12 @@ JSON
 [[ $(ls "$work/ratio/packings" | grep -c '\.state$') -eq 2 ]] || fail "ratio sweep: expected 2 packings: $(ls "$work/ratio/packings")"
 # Seeds are innermost: runs 0 and 2 have seed 1, runs 1 and 3 seed 2. 12 bodies per step.
 first_rows() { sed -n '2,13p' "$work/ratio/runs/$1/bodies.csv"; }
-[[ "$(first_rows 0 | cut -d, -f1 | sort -u)" == 800 ]] || fail "run 0 does not start at the packing (step 800): $(first_rows 0 | head -1)"
+# The step where the bed reached settle.ke_ratio, as run 0's run.json records it.
+packing_step="$(/usr/bin/python3 -c 'import json, sys; print(json.load(open(sys.argv[1]))["packing"]["step"])' \
+  "$work/ratio/runs/0/run.json")"
+[[ "$packing_step" -gt 0 ]] || fail "run 0's run.json names no packing step"
+[[ "$(first_rows 0 | cut -d, -f1 | sort -u)" == "$packing_step" ]] ||
+  fail "run 0 does not start at the packing (step $packing_step): $(first_rows 0 | head -1)"
 cmp <(first_rows 0) <(first_rows 2) || fail "the two ratios of seed 1 start from different states"
 cmp <(first_rows 1) <(first_rows 3) || fail "the two ratios of seed 2 start from different states"
 if cmp -s <(first_rows 0) <(first_rows 1); then fail "seeds 1 and 2 start from the same state"; fi

@@ -102,8 +102,17 @@ const char* kThermalScene = R"({
   "name": "cli_thermal", "time": {"dt": 0.01},
   "container": {"type": "planes", "planes": [{"normal": [0, 0, 1], "point": [0, 0, 0], "expands": true}]},
   "particles": {"bodies": [{"shape": "sphere", "radius": 0.5, "position": [0, 0, 0.6]}]},
-  "thermal": {"start_time": 0.3, "heat_time": 0.1, "cycles": 1},
-  "settle": {"ke_ratio": 1e-300}
+  "thermal": {"start_time": 0.3, "heat_time": 0.1, "cycles": 1}
+})";
+
+// The same sphere with a settle section: it lands (inelastic contact, KE 0) at
+// t = 0.46, which ends the settle stage; the cycle (0.2) starts 0.05 later.
+const char* kSettleScene = R"({
+  "name": "cli_settle", "time": {"dt": 0.01},
+  "container": {"type": "planes", "planes": [{"normal": [0, 0, 1], "point": [0, 0, 0], "expands": true}]},
+  "particles": {"bodies": [{"shape": "sphere", "radius": 0.5, "position": [0, 0, 0.6]}]},
+  "thermal": {"start_time": 0.05, "heat_time": 0.1, "cycles": 1},
+  "settle": {"ke_ratio": 1e-6, "max_time": 1.0}
 })";
 
 std::string slurp(const fs::path& p) {
@@ -119,18 +128,48 @@ TEST(RatchetCli, PackThenRunFromThePacking) {
   ASSERT_EQ(r.status, 0) << r.output;
   EXPECT_TRUE(fs::exists(packing));
   EXPECT_FALSE(fs::exists(packing + ".partial"));
-  EXPECT_THAT(r.output, HasSubstr("warning: " + scene + ": the bed did not settle by t = "));  // 1e-300 is not reached
   // Another expansion coefficient has the same packing key.
   r = run("run " + scene + " --out " + (d / "out").string() + " --packing " + packing +
           " --set thermal.alpha_c=0.002 --quiet");
   ASSERT_EQ(r.status, 0) << r.output;
   const std::string meta = slurp(d / "out" / "run.json");
   EXPECT_THAT(meta, HasSubstr("\"packing\": {"));
-  EXPECT_THAT(meta, HasSubstr("\"reached\": false"));
+  EXPECT_THAT(meta, HasSubstr("\"reached\": null"));  // no settle section: no threshold
   EXPECT_EQ(slurp(d / "out" / "bodies.csv").substr(0, 100).find("\n0,0,"), std::string::npos);  // starts at the packing
   r = run("run --explain " + scene + " --packing " + packing);
   EXPECT_EQ(r.status, 0) << r.output;
   EXPECT_THAT(r.output, HasSubstr("starts from the packing " + packing + " (step 29,"));
+  fs::remove_all(d);
+}
+
+TEST(RatchetCli, SettleSectionEndsTheStageWhenTheBedIsAtRest) {
+  const fs::path d = scratch();
+  write(d / "s.json", kSettleScene);
+  const std::string scene = (d / "s.json").string(), packing = (d / "p.state").string();
+  Result r = run("run --explain " + scene);
+  EXPECT_EQ(r.status, 0) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("settles until KE <= 1e-06 x its peak (at most t = 1)"));
+  r = run("pack " + scene + " --out " + packing);
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("at t = 0.46"));
+  r = run("run " + scene + " --out " + (d / "from_packing").string() + " --packing " + packing + " --quiet");
+  ASSERT_EQ(r.status, 0) << r.output;
+  r = run("run " + scene + " --out " + (d / "straight").string() + " --quiet");
+  ASSERT_EQ(r.status, 0) << r.output;
+  for (const char* dir : {"from_packing", "straight"}) {
+    const std::string meta = slurp(d / dir / "run.json");
+    EXPECT_THAT(meta, HasSubstr("\"reached\": true")) << dir;
+    EXPECT_THAT(meta, HasSubstr("\"steps\": 71")) << dir;  // 46 settling + 5 rest + 20 of the cycle
+  }
+  // Not at rest by max_time (still falling): the run stops with the reason and
+  // nothing looks complete.
+  r = run("run " + scene + " --out " + (d / "strict").string() + " --set settle.max_time=0.3 --quiet");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_THAT(r.output, HasSubstr(scene + ": the bed did not settle by settle.max_time = 0.3"));
+  EXPECT_FALSE(fs::exists(d / "strict" / "run.json"));
+  r = run("pack " + scene + " --out " + (d / "strict.state").string() + " --set settle.max_time=0.3 --quiet");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_FALSE(fs::exists(d / "strict.state"));
   fs::remove_all(d);
 }
 

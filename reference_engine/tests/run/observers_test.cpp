@@ -9,6 +9,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "ratchet/observe/wall_pressure.hpp"
 #include "ratchet/run/runner.hpp"
 
 namespace ratchet {
@@ -81,6 +82,59 @@ TEST(RunObservers, TwoCycleChainWritesEveryObservable) {
   for (const char* f : {"particles_cycle1_end_heating.vtk", "contacts_cycle1_end_cooling.vtk"})
     EXPECT_TRUE(fs::exists(d / "vtk" / f)) << f;
   EXPECT_FALSE(fs::exists(d / "vtk" / "particles_cycle0_end_heating.vtk"));  // only the cycles asked for
+  fs::remove_all(d);
+}
+
+std::vector<double> cells_of(const std::string& row) {
+  std::stringstream ss(row);
+  std::vector<double> v;
+  for (std::string c; std::getline(ss, c, ',');) v.push_back(std::stod(c));
+  return v;
+}
+
+// outputs.settled_profile_time: the settled bed's profile (cycle -1), averaged over the
+// last 1.0 before cycling. Its band stresses times the band areas add up to the side
+// force of timeseries.csv averaged over the same steps (every contact point counts in
+// some band), and it comes before the cold-hold rows.
+TEST(RunObservers, SettledProfileAveragesTheWindowBeforeCycling) {
+  json j = small_bed();
+  j["outputs"]["settled_profile_time"] = 1.0;
+  j["outputs"]["timeseries_every"] = 1;
+  const fs::path d = scratch("settled_profile");
+  const SceneDef scene = build_scene(j, "settled.json");
+  World world(scene);
+  RunOptions opt;
+  opt.out_dir = d.string();
+  run_world(world, opt);
+  const auto prof = lines_of(d / "wall_profile.csv");
+  ASSERT_EQ(prof.size(), 1u + 3u * 4u);  // header + settled + 2 cycles, 4 bins each
+  const double H = cells_of(prof[4]).at(4);
+  double total = 0.0;
+  for (int k = 0; k < 4; ++k) {
+    const std::vector<double> v = cells_of(prof[static_cast<std::size_t>(k + 1)]);
+    EXPECT_EQ(v[0], -1.0);
+    EXPECT_NEAR(v[1], 4.0, 1e-9);  // written where cycling starts
+    EXPECT_EQ(v[2], k);
+    EXPECT_GE(v[5], 0.0);
+    // 1 / area of band k: the stress of a unit force in the middle of the band.
+    const ContainerDef& c = scene.container;
+    const double inv_area = wall_stress_profile({H * (k + 0.5) / 4}, {1.0}, c.bottom_radius, c.opening_angle_deg,
+                                                c.segments, H, 4)[static_cast<std::size_t>(k)];
+    total += v[5] / inv_area;
+  }
+  EXPECT_EQ(cells_of(prof[5]).at(0), 0.0);  // then cycle 0
+  // timeseries: wall_force_side (column 9) over the steps of the window (t in (3, 4]:
+  // steps 751 to 1000).
+  const auto ts = lines_of(d / "timeseries.csv");
+  double sum = 0.0;
+  int n = 0;
+  for (std::size_t i = 1; i < ts.size(); ++i) {
+    const std::vector<double> v = cells_of(ts[i]);
+    if (v[0] > 750 && v[0] <= 1000) { sum += v[9]; ++n; }
+  }
+  EXPECT_EQ(n, 250);  // 1.0 / h
+  EXPECT_GT(sum, 0.0);
+  EXPECT_NEAR(total, sum / n, 1e-9 * sum / n);  // round-off of the binning only
   fs::remove_all(d);
 }
 

@@ -1,12 +1,15 @@
-// Settled packings: the key, the settle check, refusal of a packing of another scene,
-// and the restart contract: a run from a packing writes the same rows, bit for bit, as
-// the run from t = 0 after the packing's step, also when the packing was made with
-// another thermal protocol (which the key leaves out).
+// Settled packings: the key, the settle stage (ended by the KE threshold of a settle
+// section, or at thermal.start_time without one), refusal of a packing of another
+// scene, and the restart contract: a run from a packing writes the same rows, bit for
+// bit, as the run from t = 0 after the packing's step, also when the packing was made
+// with another thermal protocol (which the key leaves out).
 #include "ratchet/run/packing.hpp"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -23,6 +26,7 @@ using ::testing::HasSubstr;
 
 // Small and short: 14 polyhedra poured into a 4-degree cone, settled to t = 3, one
 // cycle. At dt 0.005 the settle stage ends a few ulps below start_time (step 600).
+// (No settle section: settled() adds one.)
 json bed() {
   return json::parse(R"({
     "name": "pack", "seed": 5, "time": {"dt": 0.005},
@@ -31,7 +35,6 @@ json bed() {
     "particles": {"generate": {"count": 14, "shape": "polyhedron", "vertices": 10, "radius_range": [0.3, 0.5]}},
     "thermal": {"start_time": 3.0, "heat_time": 0.5, "hold_time": 0.25, "cool_time": 0.5, "cycles": 1,
                 "alpha_p": 1e-3, "alpha_c": 1e-2},
-    "settle": {"ke_ratio": 0.5},
     "outputs": {"timeseries_every": 1, "bodies_every": 10, "volume": true, "segment_forces": true,
                 "steady_cycles": [0, 0], "pressure_window": 0.1,
                 "displacement": {"cell": 1.0, "windows": [[0, 1]]}, "wall_profile_bins": 3}
@@ -40,6 +43,15 @@ json bed() {
 
 json with(json j, const std::string& path, const json& value) {
   apply_override(j, path + "=" + value.dump(), "test");
+  return j;
+}
+
+// The same bed with a settle section: settled when KE <= 1e-4 x its peak (t = 6.75
+// for this bed), then a rest of 0.25 before the cycle.
+json settled() {
+  json j = bed();
+  j["settle"] = {{"ke_ratio", 1e-4}, {"max_time", 10.0}};
+  j["thermal"]["start_time"] = 0.25;
   return j;
 }
 
@@ -92,45 +104,54 @@ std::string packing_of(const json& scene, const fs::path& file) {
   return packing_key(w.scene());
 }
 
-TEST(Packing, KeyLeavesOutOnlyWhatCannotActBeforeStartTime) {
-  const std::string k = packing_key(build_scene(bed(), "a.json"));
-  EXPECT_EQ(k.size(), 16u);
-  for (const auto& [path, value] : std::vector<std::pair<std::string, json>>{
-           {"thermal.alpha_c", 1e-4}, {"thermal.alpha_p", 2e-4}, {"thermal.T1", 50}, {"thermal.heat_time", 2.0},
-           {"thermal.hold_time", 0.0}, {"thermal.cool_time", 3.0}, {"thermal.cycles", 4}, {"name", "other"},
-           {"description", "text"}, {"time.duration", 100.0}, {"solver.threads", 2},
-           {"outputs", json{{"timeseries_every", 7}}}})
-    EXPECT_EQ(packing_key(build_scene(with(bed(), path, value), "b.json")), k) << path;
-  json no_seed = with(bed(), "seed", 1);
-  const std::string k1 = packing_key(build_scene(no_seed, "c.json"));
-  no_seed.erase("seed");
-  EXPECT_EQ(packing_key(build_scene(no_seed, "c.json")), k1);  // the default seed, as a sweep writes it
-  for (const auto& [path, value] : std::vector<std::pair<std::string, json>>{
-           {"container.opening_angle_deg", 6.0}, {"seed", 6}, {"thermal.start_time", 2.5}, {"thermal.T0", 10.0},
-           {"time.dt", 0.004}, {"materials.friction", 0.3}, {"solver.p_gap", 0.2}, {"settle.ke_ratio", 0.1},
-           {"effects.container_expansion", false}, {"particles.generate.count", 13}})
-    EXPECT_NE(packing_key(build_scene(with(bed(), path, value), "b.json")), k) << path;
+TEST(Packing, KeyLeavesOutOnlyWhatCannotActBeforeTheSettleStageEnds) {
+  const std::vector<std::pair<std::string, json>> same{
+      {"thermal.alpha_c", 1e-4}, {"thermal.alpha_p", 2e-4}, {"thermal.T1", 50},   {"thermal.heat_time", 2.0},
+      {"thermal.hold_time", 0.0}, {"thermal.cool_time", 3.0}, {"thermal.cycles", 4}, {"name", "other"},
+      {"description", "text"},    {"time.duration", 100.0},  {"solver.threads", 2},
+      {"outputs", json{{"timeseries_every", 7}}}};
+  const std::vector<std::pair<std::string, json>> different{
+      {"container.opening_angle_deg", 6.0}, {"seed", 6}, {"thermal.T0", 10.0}, {"time.dt", 0.004},
+      {"materials.friction", 0.3}, {"solver.p_gap", 0.2}, {"solver.criterion", "velocity"},
+      {"effects.container_expansion", false}, {"particles.generate.count", 13}};
+  for (const json& base : {bed(), settled()}) {
+    const std::string k = packing_key(build_scene(base, "a.json"));
+    EXPECT_EQ(k.size(), 16u);
+    for (const auto& [path, value] : same) EXPECT_EQ(packing_key(build_scene(with(base, path, value), "b.json")), k) << path;
+    for (const auto& [path, value] : different)
+      EXPECT_NE(packing_key(build_scene(with(base, path, value), "b.json")), k) << path;
+    json no_seed = with(base, "seed", 1);
+    const std::string k1 = packing_key(build_scene(no_seed, "c.json"));
+    no_seed.erase("seed");
+    EXPECT_EQ(packing_key(build_scene(no_seed, "c.json")), k1);  // the default seed, as a sweep writes it
+  }
+  // Without a settle section the stage ends at start_time; with one, start_time is the
+  // rest after the stage and cannot act in it, while the threshold and the time allowed can.
+  EXPECT_NE(packing_key(build_scene(with(bed(), "thermal.start_time", 2.5), "b.json")), packing_key(build_scene(bed(), "a")));
+  const std::string ks = packing_key(build_scene(settled(), "a.json"));
+  EXPECT_EQ(packing_key(build_scene(with(settled(), "thermal.start_time", 2.5), "b.json")), ks);
+  EXPECT_NE(packing_key(build_scene(with(settled(), "settle.ke_ratio", 1e-3), "b.json")), ks);
+  EXPECT_NE(packing_key(build_scene(with(settled(), "settle.max_time", 4.0), "b.json")), ks);
+  EXPECT_NE(ks, packing_key(build_scene(bed(), "a")));
 }
 
 // The key test: pack with one thermal protocol, run another from the packing, and
-// compare with that other protocol's run from t = 0.
-TEST(Packing, RunFromPackingIsBitIdenticalAfterThePackingStep) {
-  const fs::path d = scratch("restart");
-  const json other = with(with(with(bed(), "thermal.alpha_c", 2.5e-3), "thermal.T1", 80), "thermal.heat_time", 0.75);
-  ASSERT_EQ(packing_key(build_scene(bed(), "a")), packing_key(build_scene(other, "b")));
+// compare with that other protocol's run from t = 0. Without a settle section the
+// packing ends at start_time; with one, where the KE threshold is met.
+void expect_restart_is_bit_identical(const json& base, const std::string& name) {
+  const fs::path d = scratch("restart_" + name);
+  const json other = with(with(with(base, "thermal.alpha_c", 2.5e-3), "thermal.T1", 80), "thermal.heat_time", 0.75);
+  ASSERT_EQ(packing_key(build_scene(base, "a")), packing_key(build_scene(other, "b")));
   {
     World w(build_scene(other, "straight.json"));
     RunOptions opt;
     opt.out_dir = (d / "straight").string();
     (void)run_world(w, opt);
   }
-  const std::string key = packing_of(bed(), d / "p.state");
+  const std::string key = packing_of(base, d / "p.state");
   World w(build_scene(other, "restart.json"));
   const json meta = load_packing((d / "p.state").string(), w);
   const long long k = w.state().step;
-  EXPECT_EQ(k, 600);  // the last step with t <= start_time
-  EXPECT_LE(w.state().t, 3.0);
-  EXPECT_GT(w.state().t + 0.005, 3.0);
   RunOptions opt;
   opt.out_dir = (d / "restart").string();
   opt.packing = packing_reference((d / "p.state").string(), w);
@@ -151,10 +172,25 @@ TEST(Packing, RunFromPackingIsBitIdenticalAfterThePackingStep) {
   EXPECT_TRUE(a.at("summary").at("P_max").is_number());
   EXPECT_EQ(a.at("settle"), b.at("settle"));  // recorded by the run, and copied from the packing
   EXPECT_EQ(a.at("settle").at("step_end"), k);
+  EXPECT_EQ(a.at("steps"), b.at("steps"));
   EXPECT_TRUE(a.at("packing").is_null());
   EXPECT_EQ(b.at("packing").at("key"), key);
   EXPECT_EQ(b.at("packing").at("step"), k);
   fs::remove_all(d);
+}
+
+TEST(Packing, RunFromPackingIsBitIdenticalAfterThePackingStep) {
+  expect_restart_is_bit_identical(bed(), "fixed");
+  // Without a settle section: the last step with t <= start_time.
+  World w(build_scene(bed(), "a.json"));
+  (void)settle_world(w);
+  EXPECT_EQ(w.state().step, 600);
+  EXPECT_LE(w.state().t, 3.0);
+  EXPECT_GT(w.state().t + 0.005, 3.0);
+}
+
+TEST(Packing, RunFromSettledPackingIsBitIdenticalAfterThePackingStep) {
+  expect_restart_is_bit_identical(settled(), "settled");
 }
 
 TEST(Packing, PackingOfAnotherSceneIsRefusedBeforeAnythingChanges) {
@@ -202,38 +238,99 @@ TEST(Packing, PackingOfAnotherSceneIsRefusedBeforeAnythingChanges) {
   fs::remove_all(d);
 }
 
-TEST(Packing, SettleRecordChecksTheThreshold) {
-  World w(build_scene(bed(), "a.json"));
-  const json loose = settle_world(w);
-  EXPECT_EQ(loose.at("step_end"), w.state().step);
-  EXPECT_EQ(loose.at("t_end"), w.state().t);
-  EXPECT_GT(loose.at("ke_peak").get<double>(), 0.0);
-  EXPECT_EQ(loose.at("ke_ratio").get<double>(), loose.at("ke_end").get<double>() / loose.at("ke_peak").get<double>());
-  EXPECT_EQ(loose.at("ke_ratio_threshold"), 0.5);
-  // A settled bed ends far below half its peak energy, and has been for a while.
-  EXPECT_EQ(loose.at("reached"), true);
-  EXPECT_LT(loose.at("t_settled").get<double>(), loose.at("t_end").get<double>());
-  EXPECT_GT(loose.at("t_settled").get<double>(), 0.0);
+// The settle stage of a settle section ends at the first state with KE <= ke_ratio x
+// the peak so far, and the protocol then counts from there.
+TEST(Packing, SettleStageEndsAtTheFirstStateBelowTheThreshold) {
+  const SceneDef scene = build_scene(settled(), "a.json");
+  World w(scene);
+  EXPECT_TRUE(w.settling());
+  const json r = settle_world(w);
+  EXPECT_FALSE(w.settling());
+  const long long k = w.state().step;
+  EXPECT_EQ(r.at("step_end"), k);
+  EXPECT_EQ(r.at("t_end"), w.state().t);
+  EXPECT_EQ(r.at("reached"), true);
+  EXPECT_EQ(r.at("t_settled"), w.state().t);
+  EXPECT_EQ(r.at("ke_ratio_threshold"), 1e-4);
+  EXPECT_LE(r.at("ke_ratio").get<double>(), 1e-4);
+  EXPECT_EQ(r.at("ke_ratio").get<double>(), r.at("ke_end").get<double>() / r.at("ke_peak").get<double>());
+  EXPECT_GT(w.state().t, 2.5);  // the bed is still moving well after the pour
+  EXPECT_LT(w.state().t, 10.0);
+  // No earlier state met the threshold: replay the pour.
+  World replay(scene);
+  double peak = 0.0;
+  for (long long i = 1; i < k; ++i) {
+    replay.step();
+    peak = std::max(peak, replay.kinetic_energy());
+    ASSERT_GT(replay.kinetic_energy(), 1e-4 * peak) << "step " << i;
+  }
+  // The protocol now starts after the rest (0.25) and the run ends one run time later.
+  EXPECT_EQ(w.scene().thermal.start_time, w.state().t + 0.25);
+  EXPECT_EQ(w.scene().steps, k + std::llround(scene.settle.run_time / 0.005));
+  EXPECT_EQ(w.state().T, 0.0);  // still T0
+  // The threshold changes where the stage ends, not the pour before it.
+  World coarse(build_scene(with(settled(), "settle.ke_ratio", 1e-2), "b.json"));
+  const json rc = settle_world(coarse);
+  EXPECT_LT(rc.at("step_end").get<long long>(), k);
+  EXPECT_EQ(rc.at("ke_peak"), r.at("ke_peak"));
+}
 
-  World strict(build_scene(with(bed(), "settle.ke_ratio", 1e-300), "b.json"));
-  const json r = settle_world(strict);
-  EXPECT_EQ(r.at("reached"), false);
-  EXPECT_TRUE(r.at("t_settled").is_null());
-  EXPECT_EQ(r.at("ke_ratio"), loose.at("ke_ratio"));  // the threshold checks, it does not change the pour
+TEST(Packing, UnsettledBedFailsAtMaxTimeNamingTheFields) {
+  World strict(build_scene(with(with(settled(), "settle.ke_ratio", 1e-300), "settle.max_time", 0.5), "strict.json"));
+  try {
+    (void)settle_world(strict);
+    FAIL() << "a threshold of 1e-300 was reached";
+  } catch (const SettleError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("strict.json: the bed did not settle by settle.max_time = 0.5"));
+    EXPECT_THAT(e.what(), HasSubstr("is above settle.ke_ratio = 1e-300"));
+  }
+  EXPECT_NEAR(strict.state().t, 0.5, 1e-9);
+  EXPECT_TRUE(strict.settling());
+  // run_world stops the same way and leaves no run.json (docs/output-format.md).
+  const fs::path d = scratch("unsettled");
+  World w(build_scene(with(with(settled(), "settle.ke_ratio", 1e-300), "settle.max_time", 0.5), "strict.json"));
+  RunOptions opt;
+  opt.out_dir = (d / "out").string();
+  EXPECT_THROW((void)run_world(w, opt), SettleError);
+  EXPECT_FALSE(fs::exists(d / "out" / "run.json"));
+  fs::remove_all(d);
+}
 
-  json none = bed();
-  none.erase("settle");
-  World plain(build_scene(none, "c.json"));
+TEST(Packing, WithoutSettleSectionTheStageEndsAtStartTime) {
+  World plain(build_scene(bed(), "c.json"));
+  EXPECT_FALSE(plain.settling());
   const json n = settle_world(plain);
   EXPECT_TRUE(n.at("reached").is_null());
   EXPECT_TRUE(n.at("ke_ratio_threshold").is_null());
-  EXPECT_EQ(n.at("ke_ratio"), loose.at("ke_ratio"));
+  EXPECT_TRUE(n.at("t_settled").is_null());
+  EXPECT_EQ(n.at("step_end"), 600);
+  EXPECT_GT(n.at("ke_ratio").get<double>(), 0.0);
+  EXPECT_THROW(plain.end_settle_stage(), std::logic_error);
+}
+
+// A packing says whether its bed reached the threshold; one that did not, or was made
+// for a larger max_time, is refused.
+TEST(Packing, SettledSceneRefusesPackingsThatDidNotSettle) {
+  const fs::path d = scratch("unsettled_packing");
+  World w(build_scene(settled(), "a.json"));
+  json r = settle_world(w);
+  r["reached"] = false;
+  write_packing((d / "p.state").string(), w, r);
+  World fresh(build_scene(settled(), "a.json"));
+  try {
+    (void)load_packing((d / "p.state").string(), fresh);
+    FAIL();
+  } catch (const StateFileError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("does not say that the bed reached settle.ke_ratio"));
+  }
+  EXPECT_TRUE(fresh.settling());
+  EXPECT_EQ(fresh.state().step, 0);
+  fs::remove_all(d);
 }
 
 TEST(Packing, SceneWithoutThermalSectionHasNoSettleStage) {
   json j = bed();
   j.erase("thermal");
-  j.erase("settle");
   j["time"]["duration"] = 0.1;
   World w(build_scene(j, "cold.json"));
   EXPECT_FALSE(has_settle_stage(w.scene()));

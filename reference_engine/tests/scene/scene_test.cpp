@@ -143,27 +143,70 @@ TEST(Scene, MissingRequiredFieldsAreNamed) {
   EXPECT_THAT(error_of(j), AllOf(HasSubstr("particles.bodies[0].radius"), HasSubstr("required")));
 }
 
-TEST(Scene, SettleThresholdIsCheckedStrictly) {
+TEST(Scene, SettleSectionIsCheckedStrictly) {
   json j = minimal_scene();
-  j["thermal"] = {{"start_time", 0.5}};
-  j["settle"] = {{"ke_ratio", 1e-6}};
-  EXPECT_DOUBLE_EQ(build_scene(j, "scene.json").settle_ke_ratio, 1e-6);
-  EXPECT_EQ(build_scene(minimal_scene(), "scene.json").settle_ke_ratio, 0.0);  // absent: no threshold
+  j["thermal"] = {{"start_time", 0.5}, {"heat_time", 1.0}, {"cycles", 2}};
+  j["time"].erase("duration");
+  j["settle"] = {{"ke_ratio", 1e-6}, {"max_time", 3.0}};
+  const SceneDef s = build_scene(j, "scene.json");
+  EXPECT_TRUE(s.settle.enabled);
+  EXPECT_DOUBLE_EQ(s.settle.ke_ratio, 1e-6);
+  EXPECT_DOUBLE_EQ(s.settle.max_time, 3.0);
+  EXPECT_FALSE(build_scene(minimal_scene(), "scene.json").settle.enabled);  // absent: no settle section
   for (const char* bad : {"-0.001", "0", "1", "2.5", "\"nan\"", "true", "null"}) {
     j["settle"]["ke_ratio"] = json::parse(bad);
     EXPECT_THAT(error_of(j), AllOf(HasSubstr("scene.json: field 'settle.ke_ratio': expected a number in (0, 1), got"),
                                    HasSubstr(bad)))
         << bad;
   }
-  j["settle"] = {{"ke_ratio", 1e-6}, {"peak", 1}};
-  EXPECT_THAT(error_of(j), AllOf(HasSubstr("'settle.peak': unknown field"), HasSubstr("known fields here: ke_ratio")));
+  j["settle"]["ke_ratio"] = 1e-6;
+  for (const char* bad : {"-1", "0", "\"inf\"", "null"}) {
+    j["settle"]["max_time"] = json::parse(bad);
+    EXPECT_THAT(error_of(j), HasSubstr("scene.json: field 'settle.max_time': expected a finite positive number")) << bad;
+  }
+  j["settle"] = {{"ke_ratio", 1e-6}, {"max_time", 3.0}, {"peak", 1}};
+  EXPECT_THAT(error_of(j), AllOf(HasSubstr("'settle.peak': unknown field"), HasSubstr("known fields here: ke_ratio, max_time")));
+  j["settle"] = {{"ke_ratio", 1e-6}};
+  EXPECT_THAT(error_of(j), AllOf(HasSubstr("'settle.max_time'"), HasSubstr("required")));
   j["settle"] = json::object();
   EXPECT_THAT(error_of(j), AllOf(HasSubstr("'settle.ke_ratio'"), HasSubstr("required")));
   j["settle"] = 1e-6;
   EXPECT_THAT(error_of(j), AllOf(HasSubstr("'settle'"), HasSubstr("an object")));
-  j["settle"] = {{"ke_ratio", 1e-6}};
+  j["settle"] = {{"ke_ratio", 1e-6}, {"max_time", 3.0}};
   j.erase("thermal");
+  j["time"]["duration"] = 1.0;
   EXPECT_THAT(error_of(j), AllOf(HasSubstr("field 'settle'"), HasSubstr("thermal section")));
+}
+
+// With a settle section the written times count from the end of the settle stage;
+// until it is known the scene holds the latest values (settle end = max_time).
+TEST(Scene, SettleSectionMovesTheProtocolAfterTheSettleStage) {
+  json j = minimal_scene();
+  j["time"] = {{"dt", 0.01}};
+  j["thermal"] = {{"start_time", 0.5}, {"heat_time", 1.0}, {"hold_time", 0.25}, {"cool_time", 1.0}, {"cycles", 2}};
+  const SceneDef fixed = build_scene(j, "fixed.json");
+  EXPECT_DOUBLE_EQ(fixed.thermal.start_time, 0.5);
+  EXPECT_DOUBLE_EQ(fixed.duration, 0.5 + 2 * 2.5);
+  EXPECT_EQ(fixed.steps, 550);
+  j["settle"] = {{"ke_ratio", 1e-6}, {"max_time", 3.0}};
+  const SceneDef s = build_scene(j, "settle.json");
+  EXPECT_DOUBLE_EQ(s.settle.rest_time, 0.5);
+  EXPECT_DOUBLE_EQ(s.settle.run_time, 0.5 + 2 * 2.5);
+  EXPECT_DOUBLE_EQ(s.thermal.start_time, 3.5);
+  EXPECT_DOUBLE_EQ(s.duration, 8.5);
+  EXPECT_EQ(s.steps, 300 + 550);
+  j["time"]["duration"] = 2.0;  // the run after settling
+  EXPECT_DOUBLE_EQ(build_scene(j, "d.json").settle.run_time, 2.0);
+  EXPECT_EQ(build_scene(j, "d.json").steps, 500);
+}
+
+TEST(Scene, SolverCriterionIsImpulseOrVelocity) {
+  json j = minimal_scene();
+  EXPECT_EQ(build_scene(j, "s.json").solver.criterion, Criterion::Impulse);  // the default
+  j["solver"] = {{"criterion", "velocity"}};
+  EXPECT_EQ(build_scene(j, "s.json").solver.criterion, Criterion::Velocity);
+  j["solver"]["criterion"] = "Quad";
+  EXPECT_THAT(error_of(j), HasSubstr("scene.json: field 'solver.criterion': expected \"impulse\" or \"velocity\", got \"Quad\""));
 }
 
 TEST(Scene, DegeneratePolyhedronIsRefusedWithItsField) {

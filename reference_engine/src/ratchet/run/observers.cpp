@@ -34,6 +34,7 @@ RunObservers::RunObservers(const World& world, std::string out_dir)
   if (o.segment_forces)
     for (std::size_t k = 0; k < side_wall_indices(scene_).size(); ++k) columns_.push_back("wall_force_seg_" + std::to_string(k));
   if (o.volume) v0_ = bed_volume(world);
+  settle_pending_ = world.settling();
   // The start of cycling is the first state with t >= start_time (within round-off):
   // the initial state when start_time is 0, or a packing (run/packing.hpp) that ends there.
   started_ = thermal_ && world.state().t >= scene_.thermal.start_time - 1e-9 * scene_.dt;
@@ -105,11 +106,38 @@ void RunObservers::after_step(const World& world) {
   if (!thermal_) return;
   const ThermalProtocol& p = scene_.thermal;
   const OutputSettings& o = scene_.outputs;
+  // With a settle section V0 is the volume where the settle stage ends (the packing's
+  // state), so that a run from the packing has the same V0; without one, where
+  // cycling starts (the same state).
+  if (settle_pending_ && !world.settling()) {
+    settle_pending_ = false;
+    if (o.volume) v0_ = bed_volume(world);
+  }
+  // The settled bed's wall profile: averaged over the states of the last
+  // settled_profile_time before cycling that this run computes (after the settle stage
+  // of a settle section; none when the run starts from a packing that ends at
+  // start_time), with the bands fixed by the bed height at the window's first state.
+  // The half step keeps the count at round(settled_profile_time / h) whatever the
+  // round-off in t.
+  if (!started_ && o.settled_profile_time > 0.0 && !world.settling() &&
+      t > p.start_time - o.settled_profile_time + 0.5 * scene_.dt) {
+    if (!in_settled_window_) {
+      in_settled_window_ = true;
+      profile_impulse_.assign(static_cast<std::size_t>(o.wall_profile_bins), 0.0);
+      profile_time_ = 0.0;
+      profile_height_ = world.bed_height();
+    }
+    accumulate_wall_profile(world);
+  }
   // Start of cycling: reference volume and the first snapshot, once (a state a few ulps
   // below start_time reaches the mark, and so would the next step).
   if (!started_ && t >= p.start_time - 1e-9 * scene_.dt) {
     started_ = true;
-    if (o.volume) v0_ = bed_volume(world);
+    if (in_settled_window_) {
+      in_settled_window_ = false;
+      flush_wall_profile(world, -1);
+    }
+    if (o.volume && !scene_.settle.enabled) v0_ = bed_volume(world);
     if (o.displacement_cell > 0.0) snapshots_.push_back(world.state().x);
   }
   const double tc = t - p.start_time;

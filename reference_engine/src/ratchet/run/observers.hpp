@@ -57,6 +57,7 @@ class RunObservers {
   std::vector<std::string> columns_;
   bool thermal_ = false;
   bool started_ = false;  // the start of cycling (V0, snapshot 0) has been taken
+  bool settle_pending_ = false;  // a settle section's stage has not ended yet (V0 is taken when it does)
   double v0_ = NAN;
   double t_prev_ = 0.0;
   std::vector<CycleRecord> cycles_;
@@ -66,6 +67,7 @@ class RunObservers {
   std::vector<double> profile_impulse_;
   double profile_time_ = 0.0, profile_height_ = 0.0;
   bool in_cold_hold_ = false;
+  bool in_settled_window_ = false;  // outputs.settled_profile_time: the window before cycling
   // Block average of P(t) over outputs.pressure_window for the per-cycle peaks: NSCD
   // wall impulses are intermittent, so single-step values are noisy.
   double block_sum_ = 0.0, block_time_ = 0.0, block_start_ = 0.0;

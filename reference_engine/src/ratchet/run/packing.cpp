@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <sstream>
 
 #include "ratchet/io/state_file.hpp"
 #include "ratchet/run/runner.hpp"
@@ -13,7 +14,14 @@ using nlohmann::json;
 namespace {
 
 // Bumped whenever the rule of packing_scene changes, so old packings stop matching.
-constexpr const char* kKeySalt = "ratchet packing key 1\n";
+constexpr const char* kKeySalt = "ratchet packing key 2\n";  // 2: settle sections end by KE
+
+// A number for a message: 6 significant digits.
+std::string shown(double x) {
+  std::ostringstream o;
+  o << x;
+  return o.str();
+}
 
 std::string shown(const json& j) {
   std::string s = j.dump();
@@ -52,10 +60,13 @@ json packing_scene(const json& scene) {
   if (!j.contains("seed")) j["seed"] = 1;  // the default, written out: a sweep always writes it
   if (j.contains("time") && j["time"].is_object()) j["time"].erase("duration");
   if (j.contains("solver") && j["solver"].is_object()) j["solver"].erase("threads");  // results do not depend on it
-  // T stays T0 (so s_p = s_c = 1) while t - start_time <= 0: the shape of the cycle
-  // and the expansion coefficients cannot act before then.
-  if (j.contains("thermal") && j["thermal"].is_object())
+  // T stays T0 (so s_p = s_c = 1) until the settle stage ends: the shape of the cycle
+  // and the expansion coefficients cannot act before then; with a settle section
+  // neither can start_time, which counts from the end of the stage.
+  if (j.contains("thermal") && j["thermal"].is_object()) {
     for (const char* k : {"T1", "heat_time", "hold_time", "cool_time", "cycles", "alpha_p", "alpha_c"}) j["thermal"].erase(k);
+    if (j.contains("settle")) j["thermal"].erase("start_time");
+  }
   return j;
 }
 
@@ -64,25 +75,26 @@ std::string packing_key(const SceneDef& scene) { return fnv1a_hex(kKeySalt + pac
 bool has_settle_stage(const SceneDef& scene) { return scene.thermal.enabled; }
 
 namespace {
-// Same expression as temperature(): t_abs = t + h, then t_abs - start_time <= 0.
+// Without a settle section the stage ends at the last state before the temperature
+// leaves T0: the last step with t - start_time <= 0, in the same arithmetic as
+// temperature() (thermal/thermal_protocol.cpp): t_abs = t + h, then t_abs - start_time.
 bool settles_after(const SceneDef& s, double t) {
   return has_settle_stage(s) && (t + s.dt) - s.thermal.start_time <= 0.0;
 }
 }  // namespace
 
-bool next_step_settles(const World& world) { return settles_after(world.scene(), world.state().t); }
-
-SettleMonitor::SettleMonitor(const World& world) : threshold_(world.scene().settle_ke_ratio) {
-  done_ = !has_settle_stage(world.scene());
+SettleMonitor::SettleMonitor(World& world)
+    : threshold_(world.scene().settle.enabled ? world.scene().settle.ke_ratio : 0.0) {
+  done_ = !has_settle_stage(world.scene()) || (world.scene().settle.enabled && !world.settling());
   if (done_) return;
   observe(world);
-  done_ = !next_step_settles(world);
+  check(world);
 }
 
-void SettleMonitor::after_step(const World& world) {
+void SettleMonitor::after_step(World& world) {
   if (done_) return;
   observe(world);
-  done_ = !next_step_settles(world);
+  check(world);
 }
 
 void SettleMonitor::observe(const World& world) {
@@ -90,11 +102,25 @@ void SettleMonitor::observe(const World& world) {
   peak_ = std::max(peak_, ke_);
   t_ = world.state().t;
   step_ = world.state().step;
-  if (threshold_ > 0.0) {
-    const bool below = ke_ <= threshold_ * peak_;
-    if (below && !below_) t_below_ = t_;
-    below_ = below;
+}
+
+void SettleMonitor::check(World& world) {
+  const SceneDef& s = world.scene();
+  if (!s.settle.enabled) {
+    done_ = !settles_after(s, t_);
+    return;
   }
+  // The initial state does not count: a bed released at rest has KE = peak = 0.
+  below_ = step_ > 0 && ke_ <= threshold_ * peak_;
+  if (below_) {
+    world.end_settle_stage();
+    done_ = true;
+    return;
+  }
+  if (t_ >= s.settle.max_time - 1e-9 * s.dt)
+    throw SettleError(s.source + ": the bed did not settle by settle.max_time = " + shown(s.settle.max_time) +
+                      ": KE/KE_peak = " + shown(peak_ > 0.0 ? ke_ / peak_ : 0.0) + " at t = " + shown(t_) +
+                      " is above settle.ke_ratio = " + shown(threshold_) + "; raise settle.max_time or settle.ke_ratio");
 }
 
 json SettleMonitor::record() const {
@@ -106,14 +132,14 @@ json SettleMonitor::record() const {
               {"ke_ratio", peak_ > 0.0 ? json(ke_ / peak_) : json(nullptr)},
               {"ke_ratio_threshold", check ? json(threshold_) : json(nullptr)},
               {"reached", check ? json(below_) : json(nullptr)},
-              {"t_settled", check && below_ ? json(t_below_) : json(nullptr)}};
+              {"t_settled", check && below_ ? json(t_) : json(nullptr)}};
 }
 
 json settle_world(World& world, const std::function<void(const World&)>& each_step) {
   const SceneDef& s = world.scene();
   if (!has_settle_stage(s))
-    throw std::invalid_argument(s.source + ": field 'thermal': expected a thermal section (the settle stage ends at "
-                                           "thermal.start_time)");
+    throw std::invalid_argument(s.source + ": field 'thermal': expected a thermal section (a packing is the bed at "
+                                           "the end of the settle stage)");
   SettleMonitor monitor(world);
   while (!monitor.done()) {
     world.step();
@@ -160,13 +186,24 @@ json load_packing(const std::string& path, World& world) {
     throw StateFileError(path + ": packing of a different scene: its key is " + f.key + ", the packing key of " + s.source +
                          " is " + key + what);
   }
-  if (f.state.step > s.steps)
-    throw StateFileError(path + ": the packing ends at step " + std::to_string(f.state.step) + ", after the last step (" +
-                         std::to_string(s.steps) + ") of " + s.source + " (field 'time.duration')");
-  if (settles_after(s, f.state.t) || f.state.t - s.thermal.start_time > 0.0)
-    throw StateFileError(path + ": the packing (t = " + std::to_string(f.state.t) + ") does not end where the settle stage of " +
-                         s.source + " ends (thermal.start_time = " + std::to_string(s.thermal.start_time) + ")");
+  if (s.settle.enabled) {
+    const json settle = f.meta.value("settle", json());
+    if (!settle.is_object() || settle.value("reached", json()) != true)
+      throw StateFileError(path + ": the packing's settle record does not say that the bed reached settle.ke_ratio");
+    if (f.state.t > s.settle.max_time + 1e-9 * s.dt)
+      throw StateFileError(path + ": the packing ends at t = " + shown(f.state.t) + ", after settle.max_time = " +
+                           shown(s.settle.max_time) + " of " + s.source);
+  } else {
+    if (f.state.step > s.steps)
+      throw StateFileError(path + ": the packing ends at step " + std::to_string(f.state.step) + ", after the last step (" +
+                           std::to_string(s.steps) + ") of " + s.source + " (field 'time.duration')");
+    if (settles_after(s, f.state.t) || f.state.t - s.thermal.start_time > 0.0)
+      throw StateFileError(path + ": the packing (t = " + std::to_string(f.state.t) +
+                           ") does not end where the settle stage of " + s.source +
+                           " ends (thermal.start_time = " + std::to_string(s.thermal.start_time) + ")");
+  }
   world.mutable_state() = std::move(f.state);
+  if (s.settle.enabled) world.end_settle_stage();
   return f.meta;
 }
 

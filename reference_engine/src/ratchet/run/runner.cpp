@@ -25,46 +25,55 @@ std::string format_seconds(double s) {
 }  // namespace
 
 RunResult run_world(World& world, const RunOptions& options, const std::function<void(const World&)>& each_step) {
-  const SceneDef& scene = world.scene();
+  const SceneDef& scene = world.scene();  // its end and start_time move when a settle section's stage ends
   RunObservers observers(world, options.out_dir);
   std::unique_ptr<RunOutput> out;
   if (!options.out_dir.empty()) out = std::make_unique<RunOutput>(options.out_dir, world, observers);
   const auto start = std::chrono::steady_clock::now();
   auto last_print = start;
-  const std::int64_t total = scene.steps;
   const int every_ts = scene.outputs.timeseries_every;
   const int every_bodies = scene.outputs.bodies_every;
   // A run from a packing starts after its settle stage and reports the packing's record.
   std::optional<SettleMonitor> settle;
   if (options.packing.is_null()) settle.emplace(world);
-  while (world.state().step < total) {
-    world.step();
-    const std::int64_t k = world.state().step;
-    const double ke = world.kinetic_energy();
-    if (!std::isfinite(ke))
-      throw RunError(scene.source + ": the state became non-finite at step " + std::to_string(k) +
-                     " (t = " + std::to_string(world.state().t) + "); the time step may be too large");
-    observers.after_step(world);
-    if (settle) settle->after_step(world);
-    if (out) {
-      if (k % every_ts == 0 || k == total) out->write_timeseries_row(world);
-      if ((every_bodies > 0 && k % every_bodies == 0) || k == total) out->write_bodies(world);
-    }
-    if (each_step) each_step(world);
-    if (options.progress) {
-      const auto now = std::chrono::steady_clock::now();
-      if (std::chrono::duration<double>(now - last_print).count() > 0.5 || k == total) {
-        last_print = now;
-        const double el = std::chrono::duration<double>(now - start).count();
-        const double left = el / static_cast<double>(k) * static_cast<double>(total - k);
-        std::fprintf(stderr, "\r%s: step %lld/%lld (%.1f%%) t=%.4g T=%.4g contacts=%d iter=%d  %s left   ",
-                     scene.name.c_str(), static_cast<long long>(k), static_cast<long long>(total),
-                     100.0 * static_cast<double>(k) / static_cast<double>(total), world.state().t, world.state().T,
-                     world.stats().contacts, world.stats().iterations, format_seconds(left).c_str());
-        if (k == total) std::fprintf(stderr, "\n");
-        std::fflush(stderr);
+  bool printed = false;  // a progress line is on the terminal: an error must start a new line
+  try {
+    while (world.state().step < scene.steps) {
+      world.step();
+      const std::int64_t k = world.state().step;
+      const double ke = world.kinetic_energy();
+      if (!std::isfinite(ke))
+        throw RunError(scene.source + ": the state became non-finite at step " + std::to_string(k) +
+                       " (t = " + std::to_string(world.state().t) + "); the time step may be too large");
+      // Before the observers: the state that ends the settle stage starts the cycling.
+      if (settle) settle->after_step(world);
+      observers.after_step(world);
+      const std::int64_t total = scene.steps;
+      if (out) {
+        if (k % every_ts == 0 || k == total) out->write_timeseries_row(world);
+        if ((every_bodies > 0 && k % every_bodies == 0) || k == total) out->write_bodies(world);
+      }
+      if (each_step) each_step(world);
+      if (options.progress) {
+        const auto now = std::chrono::steady_clock::now();
+        if (std::chrono::duration<double>(now - last_print).count() > 0.5 || k == total) {
+          last_print = now;
+          const double el = std::chrono::duration<double>(now - start).count();
+          const double left = el / static_cast<double>(k) * static_cast<double>(total - k);
+          std::fprintf(stderr, "\r%s: step %lld/%lld%s (%.1f%%) t=%.4g T=%.4g contacts=%d iter=%d  %s left   ",
+                       scene.name.c_str(), static_cast<long long>(k), static_cast<long long>(total),
+                       world.settling() ? " at most, settling" : "",
+                       100.0 * static_cast<double>(k) / static_cast<double>(total), world.state().t, world.state().T,
+                       world.stats().contacts, world.stats().iterations, format_seconds(left).c_str());
+          printed = k != total;
+          if (k == total) std::fprintf(stderr, "\n");
+          std::fflush(stderr);
+        }
       }
     }
+  } catch (...) {
+    if (printed) std::fprintf(stderr, "\n");
+    throw;
   }
   RunResult r;
   r.steps = world.state().step;

@@ -124,8 +124,14 @@ void read_effects(const Reader& r, const json& j, Effects& e) {
 
 void read_solver(const Reader& r, const json& j, SolverSettings& s) {
   const std::string p = "solver";
-  r.object(j, p, {"tolerance", "max_iterations", "theta", "p_gap", "warm_start", "contact_margin", "threads"});
+  r.object(j, p, {"tolerance", "criterion", "max_iterations", "theta", "p_gap", "warm_start", "contact_margin", "threads"});
   s.tolerance = r.positive(j, p, "tolerance", s.tolerance);
+  if (j.contains("criterion")) {
+    const json& c = j.at("criterion");
+    if (c == "impulse") s.criterion = Criterion::Impulse;
+    else if (c == "velocity") s.criterion = Criterion::Velocity;
+    else r.fail(p + ".criterion", "\"impulse\" or \"velocity\"", &c);
+  }
   s.max_iterations = static_cast<int>(r.integer(j, p, "max_iterations", s.max_iterations, 1, 100000000));
   s.theta = r.number(j, p, "theta", s.theta, 0.5, 1.0, false, false, "a number in [0.5, 1]");
   s.p_gap = r.number(j, p, "p_gap", s.p_gap, 0.0, 1.0, true, false, "a number in (0, 1]");
@@ -406,7 +412,7 @@ std::vector<std::pair<int, int>> read_windows(const Reader& r, const json& j, co
 void read_outputs(const Reader& r, const json& j, SceneDef& s) {
   const std::string p = "outputs";
   r.object(j, p, {"timeseries_every", "bodies_every", "volume", "segment_forces", "cycles", "steady_cycles",
-                  "displacement", "wall_profile_bins", "vtk_cycles", "pressure_window"});
+                  "displacement", "wall_profile_bins", "settled_profile_time", "vtk_cycles", "pressure_window"});
   OutputSettings& o = s.outputs;
   o.timeseries_every = static_cast<int>(r.integer(j, p, "timeseries_every", 1, 1, 1 << 30));
   o.bodies_every = static_cast<int>(r.integer(j, p, "bodies_every", 0, 0, 1 << 30));
@@ -414,6 +420,10 @@ void read_outputs(const Reader& r, const json& j, SceneDef& s) {
   o.segment_forces = r.boolean(j, p, "segment_forces", o.segment_forces);
   o.cycles = r.boolean(j, p, "cycles", o.cycles);
   o.wall_profile_bins = static_cast<int>(r.integer(j, p, "wall_profile_bins", 0, 0, 100000));
+  o.settled_profile_time = r.non_negative(j, p, "settled_profile_time", 0.0);
+  if (o.settled_profile_time > 0.0 && o.wall_profile_bins == 0)
+    r.fail(p + ".settled_profile_time", "outputs.wall_profile_bins > 0 as well (the bands of the profile)",
+           &j.at("settled_profile_time"));
   o.pressure_window = r.non_negative(j, p, "pressure_window", o.pressure_window);
   if (j.contains("steady_cycles")) {  // inclusive [first, last]
     const json& w = j.at("steady_cycles");
@@ -440,13 +450,16 @@ void read_outputs(const Reader& r, const json& j, SceneDef& s) {
   }
 }
 
-// The settle check (run/packing.hpp): only meaningful before a thermal protocol starts.
+// The settle stage (run/packing.hpp): until KE <= ke_ratio x peak, at most max_time.
 void read_settle(const Reader& r, const json& j, SceneDef& s) {
-  r.object(j, "settle", {"ke_ratio"});
+  r.object(j, "settle", {"ke_ratio", "max_time"});
   (void)r.required(j, "settle", "ke_ratio", "a number in (0, 1)");
-  s.settle_ke_ratio = r.number(j, "settle", "ke_ratio", 0.0, 0.0, 1.0, true, true, "a number in (0, 1)");
+  (void)r.required(j, "settle", "max_time", "a finite positive number (the time allowed to settle)");
+  s.settle.enabled = true;
+  s.settle.ke_ratio = r.number(j, "settle", "ke_ratio", 0.0, 0.0, 1.0, true, true, "a number in (0, 1)");
+  s.settle.max_time = r.positive(j, "settle", "max_time", 0.0);
   if (!s.thermal.enabled)
-    r.fail("settle", "a scene with a thermal section too (the settle stage is the time before thermal.start_time)");
+    r.fail("settle", "a scene with a thermal section too (the thermal protocol starts when the bed has settled)");
 }
 
 void read_particles(const Reader& r, const json& j, SceneDef& s) {
@@ -523,6 +536,16 @@ SceneDef build_scene(const json& j, const std::string& source) {
   }
   s.steps = static_cast<std::int64_t>(std::llround(s.duration / s.dt));
   if (s.steps < 1) r.fail("time.duration", "at least one time step (duration >= dt / 2)", &time.at("duration"));
+  if (s.settle.enabled) {
+    // Times written in the scene count from the end of the settle stage; until it is
+    // known, assume the latest (SettleDef).
+    s.settle.rest_time = s.thermal.start_time;
+    s.settle.run_time = s.duration;
+    s.thermal.start_time = s.settle.max_time + s.settle.rest_time;
+    s.duration = s.settle.max_time + s.settle.run_time;
+    s.steps = static_cast<std::int64_t>(std::llround(s.settle.max_time / s.dt)) +
+              static_cast<std::int64_t>(std::llround(s.settle.run_time / s.dt));
+  }
   read_particles(r, r.required(j, "", "particles", "an object {generate and/or bodies}"), s);
   s.as_run = j;
   s.hash = fnv1a_hex(j.dump());

@@ -22,8 +22,16 @@ struct Effects {
   bool container_expansion = true;
 };
 
+// What a Gauss-Seidel sweep's change is measured against (design.md s. 3, item 4).
+enum class Criterion {
+  Impulse,   // ||d lambda|| / ||lambda||: the relative change of the contact impulses
+  Velocity,  // the change of the body velocities in the kinetic-energy norm, relative to
+             // the velocity the contact impulses give (blind to redundant impulses)
+};
+
 struct SolverSettings {
-  double tolerance = 1e-4;  // relative change of the impulses between sweeps (design.md s.3)
+  double tolerance = 1e-4;  // on the criterion's relative change between sweeps (design.md s.3)
+  Criterion criterion = Criterion::Impulse;
   int max_iterations = 1000;
   double theta = 1.0;       // Moreau-Jean theta in [0.5, 1]; 1 = fully implicit
   double p_gap = 0.1;       // fraction of an overlap closed per step, in (0, 1]
@@ -97,8 +105,23 @@ struct OutputSettings {
   double displacement_cell = 0.0;           // > 0: displacement and vorticity fields
   std::vector<std::pair<int, int>> displacement_windows;  // cycle windows [a, b]
   int wall_profile_bins = 0;  // > 0: wall_profile.csv, averaged over the cold hold of every cycle
+  double settled_profile_time = 0.0;  // > 0: also the settled bed's profile, over this time before cycling
   double pressure_window = 0.5;  // time units: block average of P(t) for the per-cycle peaks
   std::vector<int> vtk_cycles;  // VTK at the ends of heating and cooling of these cycles
+};
+
+// The settle section (docs/scene-format.md, "settle"): the bed settles until its
+// kinetic energy is at most ke_ratio x its peak, checked after every step, and fails
+// the run if that has not happened by max_time. The thermal protocol and the duration
+// then count from the end of the settle stage: thermal.start_time is the rest after
+// it, time.duration the run after it. Until then SceneDef holds the latest possible
+// values (settle end = max_time); World::end_settle_stage() puts in the real ones.
+struct SettleDef {
+  bool enabled = false;
+  double ke_ratio = 0.0;
+  double max_time = 0.0;
+  double rest_time = 0.0;  // thermal.start_time as written
+  double run_time = 0.0;   // time.duration as written, or rest_time + cycles x cycle time
 };
 
 struct SceneDef {
@@ -115,9 +138,7 @@ struct SceneDef {
   ContainerDef container;
   ThermalProtocol thermal;
   OutputSettings outputs;
-  // settle.ke_ratio: the bed counts as settled when, at the end of the settle stage
-  // (thermal.start_time), KE <= ratio x peak KE; a recorded check. 0: no threshold.
-  double settle_ke_ratio = 0.0;
+  SettleDef settle;
   std::vector<ConvexPolyhedron> shapes;
   std::vector<BodyDef> bodies;
   nlohmann::json as_run;     // the scene JSON as run: the file after --set overrides

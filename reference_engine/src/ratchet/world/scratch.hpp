@@ -50,6 +50,8 @@ struct StepScratch {
   std::vector<std::pair<int, int>> wall_pairs;  // (body, wall) within reach, body-major
   std::vector<ContactManifold> wall_manifolds;  // per wall pair
   std::vector<SolverContact> contacts;
+  // Criterion::Velocity: body velocities before the contact impulses and before the sweep.
+  std::vector<Vec3> v_free, w_free, v_sweep, w_sweep;
 };
 
 }  // namespace ratchet

@@ -31,7 +31,7 @@ void tangent_frame(const Vec3& n, Vec3& t1, Vec3& t2) {
 
 }  // namespace
 
-World::World(const SceneDef& scene) : scene_(scene) {
+World::World(const SceneDef& scene) : scene_(scene), settling_(scene.settle.enabled) {
   const std::size_t n = scene_.bodies.size();
   state_.x.resize(n);
   state_.v.resize(n);
@@ -110,6 +110,15 @@ void World::thermal() {
   scratch_.next = thermal_scales(scene_.thermal, scene_.effects, state_.t + h);
   scratch_.eps_p = (scratch_.next.s_p - state_.s_p) / (h * state_.s_p);
   scratch_.eps_c = (scratch_.next.s_c - state_.s_c) / (h * state_.s_c);
+}
+
+void World::end_settle_stage() {
+  if (!settling_) throw std::logic_error(scene_.source + ": end_settle_stage without a settle stage in progress");
+  settling_ = false;
+  const SettleDef& st = scene_.settle;
+  scene_.thermal.start_time = state_.t + st.rest_time;
+  scene_.duration = state_.t + st.run_time;
+  scene_.steps = state_.step + static_cast<std::int64_t>(std::llround(st.run_time / scene_.dt));
 }
 
 Vec3 World::wall_point(int wall) const {
@@ -391,18 +400,46 @@ void World::warm_start() {
   }
 }
 
+// sum_i m_i |v_i - v0_i|^2 + (w_i - w0_i)^T I_i (w_i - w0_i): twice the kinetic energy
+// of the velocity difference. Inertia I = R diag(I_p s^2) R^T (as in prepare_bodies).
+double World::velocity_change(const std::vector<Vec3>& v0, const std::vector<Vec3>& w0) const {
+  double e = 0.0;
+  for (std::size_t i = 0; i < state_.v.size(); ++i) {
+    const BodyDef& b = scene_.bodies[i];
+    if (b.fixed) continue;
+    e += b.mass * (state_.v[i] - v0[i]).squaredNorm();
+    if (rotation_on_) {
+      const double sc = body_scale(static_cast<int>(i));
+      const Vec3 dw = scratch_.R[i].transpose() * (state_.w[i] - w0[i]);
+      e += (sc * sc) * dw.dot(b.principal_inertia.cwiseProduct(dw));
+    }
+  }
+  return e;
+}
+
 // Non-linear Gauss-Seidel (Jean 1999, s. 4; Moreau 1994): sweep the contacts, solve
 // each exactly with the others frozen, apply the change at once. Stop when the
-// relative change of the impulses ||d lambda|| / ||lambda|| falls below the tolerance.
+// sweep's relative change falls below the tolerance, measured by solver.criterion:
+// - impulse: ||d lambda|| / ||lambda||;
+// - velocity: sqrt(dE_sweep / E_contact), dE_sweep the kinetic-energy norm of the
+//   sweep's change of the body velocities and E_contact that of the change the
+//   contact impulses made to the free velocities. It is the norm of H^T d lambda in
+//   M^-1 (Jean 1999, eq. 40 for H), so impulses that only move load between redundant
+//   contacts of a hyperstatic packing (the null space of H^T) do not count: they
+//   change no velocity. Close to LMGC90's 'Quad' norm, which divides the change of
+//   the local velocities by W lambda.
 void World::gauss_seidel() {
   std::vector<SolverContact>& cs = scratch_.contacts;
+  StepScratch& s = scratch_;
   const double tol = scene_.solver.tolerance;
+  const bool by_velocity = scene_.solver.criterion == Criterion::Velocity;
   int it = 0;
   double residual = 0.0;
   const int half = scene_.solver.max_iterations / 2;
   double normal_half = -1.0;  // sum of the normal impulses after half the allowed sweeps
   std::int64_t tangential = 0;
   for (it = 1; it <= scene_.solver.max_iterations && !cs.empty(); ++it) {
+    if (by_velocity) { s.v_sweep = state_.v; s.w_sweep = state_.w; }
     double d2 = 0.0, l2 = 0.0;
     for (SolverContact& c : cs) {
       const Vec3 u = local_velocity(c);
@@ -423,7 +460,12 @@ void World::gauss_seidel() {
       d2 += d.squaredNorm();
       l2 += lambda_new.squaredNorm();
     }
-    residual = l2 > 0.0 ? std::sqrt(d2 / l2) : std::sqrt(d2);
+    if (by_velocity) {
+      const double de = velocity_change(s.v_sweep, s.w_sweep), e = velocity_change(s.v_free, s.w_free);
+      residual = e > 0.0 ? std::sqrt(de / e) : std::sqrt(de);
+    } else {
+      residual = l2 > 0.0 ? std::sqrt(d2 / l2) : std::sqrt(d2);
+    }
     if (it == half) {
       normal_half = 0.0;
       for (const SolverContact& c : cs) normal_half += c.lambda[0];
@@ -448,6 +490,7 @@ void World::gauss_seidel() {
 // 4. Solve.
 void World::solve() {
   build_solver_contacts();
+  if (scene_.solver.criterion == Criterion::Velocity) { scratch_.v_free = state_.v; scratch_.w_free = state_.w; }
   warm_start();
   gauss_seidel();
 }

@@ -44,6 +44,12 @@ class World {
   // One Moreau-Jean step of length h, as the named phases of design.md section 3.
   void step();
 
+  // A scene with a settle section (scene.hpp, SettleDef): the bed has settled at the
+  // current state; the thermal protocol and the run's end now count from here.
+  // Call once, between steps (run/packing.cpp does).
+  void end_settle_stage();
+  bool settling() const { return settling_; }
+
   const SceneDef& scene() const { return scene_; }
   const State& state() const { return state_; }
   State& mutable_state() { return state_; }
@@ -73,6 +79,7 @@ class World {
   void build_solver_contacts();
   void warm_start();
   void gauss_seidel();
+  double velocity_change(const std::vector<Vec3>& v0, const std::vector<Vec3>& w0) const;
   void apply_local_impulse(const SolverContact& c, const Vec3& d);
   Vec3 local_velocity(const SolverContact& c) const;
 
@@ -82,6 +89,7 @@ class World {
   StepStats stats_;
   PhaseTimers timers_;
   bool gravity_on_ = false, thermal_on_ = false, friction_on_ = false, rotation_on_ = false;
+  bool settling_ = false;  // a settle section whose stage has not ended yet
 };
 
 }  // namespace ratchet
