@@ -132,7 +132,11 @@ INSTANTIATE_TEST_SUITE_P(
                 "non-zero"},
         BadCase{"negative friction", "/materials/friction", "-0.1", "'materials.friction'", ">= 0"},
         BadCase{"fractional count", "/outputs", "{\"timeseries_every\": 2.5}", "'outputs.timeseries_every'",
-                "an integer"}));
+                "an integer"},
+        BadCase{"settled profile without bands", "/outputs", "{\"settled_profile_time\": 2}",
+                "'outputs.settled_profile_time'", "outputs.wall_profile_bins > 0 as well"},
+        BadCase{"negative settled profile time", "/outputs", "{\"wall_profile_bins\": 4, \"settled_profile_time\": -1}",
+                "'outputs.settled_profile_time'", ">= 0"}));
 
 TEST(Scene, MissingRequiredFieldsAreNamed) {
   json j = minimal_scene();
