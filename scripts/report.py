@@ -4,7 +4,8 @@
 Reads every *.jsonl file of a checks folder (one JSON object per line, written by
 validation/support/check_record.cpp; format in scripts/README.md), prints an aligned
 pass/fail table with totals, and writes OUT/report.md and OUT/report.html atomically,
-with every PNG of OUT/figures embedded (relative links in Markdown, base64 in HTML).
+with every PNG of OUT/figures embedded (relative links in Markdown, base64 in HTML)
+and every OUT/notes/*.md (plain-language findings of the validation scripts) appended.
 
 Usage: /usr/bin/python3 scripts/report.py --checks DIR --out DIR [--tier NAME] [--build-dir DIR]
 
@@ -225,6 +226,63 @@ def save_figure(figure, out_dir: str | os.PathLike, name: str, caption: str | No
     return path
 
 
+# --------------------------------------------------------------------------- notes
+
+
+def find_notes(out_dir: str | os.PathLike) -> list[Path]:
+    """Every OUT/notes/*.md, sorted by name: plain-language findings that validation
+    scripts write next to their checks (e.g. where NSCD and DEM differ and why)."""
+    folder = Path(out_dir) / "notes"
+    if not folder.is_dir():
+        return []
+    return sorted(p for p in folder.iterdir() if p.suffix.lower() == ".md" and p.is_file())
+
+
+def _note_blocks(text: str) -> list[list[str]]:
+    """Paragraph blocks of a note (separated by blank lines)."""
+    blocks, block = [], []
+    for line in text.splitlines():
+        if line.strip():
+            block.append(line.rstrip())
+        elif block:
+            blocks.append(block)
+            block = []
+    if block:
+        blocks.append(block)
+    return blocks
+
+
+def note_html(text: str) -> str:
+    """The small Markdown subset of a note as HTML: '#' headings (as h3), '- ' lists,
+    '|' tables and paragraphs; all text escaped."""
+    esc = html.escape
+    out = []
+    for block in _note_blocks(text):
+        if block[0].startswith("#"):
+            out.append(f"<h3>{esc(block[0].lstrip('#').strip())}</h3>")
+            block = block[1:]
+            if not block:
+                continue
+        if all(line.startswith("|") for line in block):
+            rows = [[c.strip() for c in line.strip("|").split("|")] for line in block
+                    if not set(line.replace("|", "").strip()) <= set("-: ")]
+            out.append("<table>" + "".join(
+                "<tr>" + "".join(f"<{'th' if i == 0 else 'td'}>{esc(c)}</{'th' if i == 0 else 'td'}>" for c in row)
+                + "</tr>" for i, row in enumerate(rows)) + "</table>")
+        elif block[0].startswith("- "):
+            items, item = [], []
+            for line in block:
+                if line.startswith("- ") and item:
+                    items.append(" ".join(item))
+                    item = []
+                item.append(line[2:] if line.startswith("- ") else line.strip())
+            items.append(" ".join(item))
+            out.append("<ul>" + "".join(f"<li>{esc(i)}</li>" for i in items) + "</ul>")
+        else:
+            out.append(f"<p>{esc(' '.join(line.strip() for line in block))}</p>")
+    return "\n".join(out)
+
+
 # --------------------------------------------------------------------------- rendering
 
 
@@ -273,7 +331,8 @@ def _verdict(passed: int, failed: int) -> str:
 
 
 def render_markdown(checks: pd.DataFrame, meta: dict[str, str] | None = None,
-                    figures: Iterable[Path] = (), out_dir: str | os.PathLike = ".") -> str:
+                    figures: Iterable[Path] = (), out_dir: str | os.PathLike = ".",
+                    notes: Iterable[Path] = ()) -> str:
     """Markdown report; figures are linked relative to out_dir (where report.md goes)."""
     passed, failed = totals(checks)
     columns = list(TABLE_COLUMNS) + ["reason"]
@@ -295,6 +354,11 @@ def render_markdown(checks: pd.DataFrame, meta: dict[str, str] | None = None,
             link = os.path.relpath(figure, out_dir).replace(os.sep, "/")
             caption = figure_caption(figure)
             out += ["", f"### {caption}", "", f"![{_md_cell(caption)}]({_md_link(link)})"]
+    notes = list(notes)
+    if notes:
+        out += ["", "## Notes"]
+        for note in notes:
+            out += ["", note.read_text(encoding="utf-8", errors="replace").strip()]
     return "\n".join(out) + "\n"
 
 
@@ -316,7 +380,7 @@ figure img { max-width: 100%; border: 1px solid #ddd; }
 
 
 def render_html(checks: pd.DataFrame, meta: dict[str, str] | None = None,
-                figures: Iterable[Path] = ()) -> str:
+                figures: Iterable[Path] = (), notes: Iterable[Path] = ()) -> str:
     """Self-contained HTML report (inline CSS, figures embedded as base64)."""
     esc = html.escape
     passed, failed = totals(checks)
@@ -350,6 +414,11 @@ def render_html(checks: pd.DataFrame, meta: dict[str, str] | None = None,
             caption = esc(figure_caption(figure))
             out.append(f'<figure><img src="data:image/png;base64,{data}" alt="{caption}">'
                        f"<figcaption>{caption}</figcaption></figure>")
+    notes = list(notes)
+    if notes:
+        out.append("<h2>Notes</h2>")
+        for note in notes:
+            out.append(note_html(note.read_text(encoding="utf-8", errors="replace")))
     out += ["</body>", "</html>"]
     return "\n".join(out) + "\n"
 
@@ -433,11 +502,12 @@ def main(argv: Sequence[str] | None = None) -> int:
         build_dir = REPO_ROOT / build_dir
     meta = collect_metadata(build_dir, args.tier, args.checks)
     figures = find_figures(out_dir)
+    notes = find_notes(out_dir)
 
     try:
         out_dir.mkdir(parents=True, exist_ok=True)
-        write_atomic(out_dir / "report.md", render_markdown(checks, meta, figures, out_dir))
-        write_atomic(out_dir / "report.html", render_html(checks, meta, figures))
+        write_atomic(out_dir / "report.md", render_markdown(checks, meta, figures, out_dir, notes))
+        write_atomic(out_dir / "report.html", render_html(checks, meta, figures, notes))
     except OSError as error:
         return no_report(f"cannot write the report in {out_dir}: {error}", 2)
 

@@ -224,6 +224,25 @@ def test_figures_are_embedded(folders):
                                                                      "wall pressure.txt"]
 
 
+def test_notes_are_appended(folders):
+    checks, out = folders
+    write_checks(checks, MIXED[:1])
+    (out / "notes").mkdir(parents=True)
+    (out / "notes" / "b.md").write_text("### Second\n\nplain <text> & more\n", encoding="utf-8")
+    (out / "notes" / "a.md").write_text(
+        "### Where the methods differ\n\n- soft contact\n  spans lines\n- damping\n\n"
+        "| case | NSCD | DEM |\n|---|---|---|\n| 0 deg | 1.0 | 2.0 |\n", encoding="utf-8")
+    assert run(checks, out) == 0
+    markdown = (out / "report.md").read_text(encoding="utf-8")
+    assert markdown.index("## Notes") < markdown.index("### Where the methods differ") < markdown.index("### Second")
+    assert "| 0 deg | 1.0 | 2.0 |" in markdown
+    page = (out / "report.html").read_text(encoding="utf-8")
+    assert "<h3>Where the methods differ</h3>" in page
+    assert "<li>soft contact spans lines</li><li>damping</li>" in page
+    assert "<tr><th>case</th><th>NSCD</th><th>DEM</th></tr><tr><td>0 deg</td><td>1.0</td><td>2.0</td></tr>" in page
+    assert "<p>plain &lt;text&gt; &amp; more</p>" in page
+
+
 def test_html_escapes_text(folders):
     checks, out = folders
     write_checks(checks, [check("a<b>", "x & y", 1.0, "<= 2", "upper bound", "<script>", True)])
