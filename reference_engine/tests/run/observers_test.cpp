@@ -138,6 +138,33 @@ TEST(RunObservers, SettledProfileAveragesTheWindowBeforeCycling) {
   fs::remove_all(d);
 }
 
+// t is accumulated (t += h): after 12,250 steps of h = 0.004 the last state lies
+// 1.35e-9 h before the end of the last cycle (start 1 + 6 x 8). It still ends that
+// cycle: the last snapshot is taken, so the window [3, 6] gets its field, and the last
+// cold hold its profile row.
+TEST(RunObservers, LastCycleEndsDespiteRoundOffInTheAccumulatedTime) {
+  const json j = json::parse(R"({
+    "name": "long", "time": {"dt": 0.004},
+    "container": {"type": "cone", "bottom_radius": 2.0},
+    "particles": {"bodies": [{"shape": "sphere", "radius": 0.5, "position": [0, 0, 0.5]}]},
+    "thermal": {"start_time": 1.0, "heat_time": 3.0, "hold_time": 1.0, "cool_time": 3.0, "cycles": 6},
+    "outputs": {"timeseries_every": 1000, "displacement": {"cell": 1.0, "windows": [[0, 3], [3, 6]]},
+                "wall_profile_bins": 1}
+  })");
+  const fs::path d = scratch("round_off");
+  World world(build_scene(j, "long.json"));
+  ASSERT_EQ(world.scene().steps, 12250);
+  RunOptions opt;
+  opt.out_dir = d.string();
+  run_world(world, opt);
+  EXPECT_LT(world.state().t - 1.0, 48.0);  // the round-off this test is about
+  EXPECT_TRUE(fs::exists(d / "displacement_0_3.csv"));
+  EXPECT_TRUE(fs::exists(d / "displacement_3_6.csv"));
+  EXPECT_EQ(lines_of(d / "cycles.csv").size(), 1u + 6u);
+  EXPECT_EQ(lines_of(d / "wall_profile.csv").size(), 1u + 6u);  // one band per cold hold
+  fs::remove_all(d);
+}
+
 TEST(RunObservers, ZeroLengthHoldStillEndsEachCycle) {
   json j = small_bed();
   j["thermal"]["hold_time"] = 0.0;

@@ -17,6 +17,15 @@ namespace ratchet {
 
 namespace {
 
+// A stage mark (end of heating, of cooling, of a cycle) counts as reached by a state
+// within kStageMarkTol h below it. t is accumulated step by step (t += h), so after N
+// steps it is off the exact N h by up to N ulp(t): 17,000 steps of h = 0.004 from
+// t = 20 left the end of the last cycle 9e-12 = 2.2e-9 h short, and 1e-9 h missed it
+// (no last cycle-end snapshot, no W_rms of the windows ending there). 1e-4 h covers
+// the worst case of the paper tier (140,000 steps to t = 560: 2e-6 h) with a margin,
+// and is far below the step, so no mark moves to another step.
+constexpr double kStageMarkTol = 1e-4;
+
 std::vector<int> side_wall_indices(const SceneDef& s) {
   std::vector<int> out;
   for (std::size_t w = 0; w < s.container.walls.size(); ++w)
@@ -93,7 +102,7 @@ RunObservers::StageEnds RunObservers::stage_ends(double t_prev, double t) const 
   if (b <= 0.0 || a >= p.cycles * L) return e;
   const int k = std::max(0, static_cast<int>(std::floor(a / L)));
   const double base = k * L;
-  const double eps = 1e-9 * scene_.dt;  // stage marks that fall on a step: tolerate round-off in t
+  const double eps = kStageMarkTol * scene_.dt;  // stage marks that fall on a step: round-off in t
   auto crossed = [&](double mark) { return a < base + mark - eps && b >= base + mark - eps; };
   e.heating = crossed(p.heat_time);
   e.cooling = crossed(p.heat_time + p.hold_time + p.cool_time);
@@ -141,9 +150,10 @@ void RunObservers::after_step(const World& world) {
     if (o.displacement_cell > 0.0) snapshots_.push_back(world.state().x);
   }
   const double tc = t - p.start_time;
-  if (tc > 0.0 && tc <= p.cycles * p.cycle_time() + 1e-9 * scene_.dt) {
+  if (tc > 0.0 && tc <= p.cycles * p.cycle_time() + kStageMarkTol * scene_.dt) {
     // Clamped: t can land a few ulps past start_time or the end of the last cycle.
-    const int k = std::max(0, std::min(p.cycles - 1, static_cast<int>(std::floor((tc - 1e-9 * scene_.dt) / p.cycle_time()))));
+    const int k = std::max(
+        0, std::min(p.cycles - 1, static_cast<int>(std::floor((tc - kStageMarkTol * scene_.dt) / p.cycle_time()))));
     while (static_cast<int>(cycles_.size()) <= k) {
       cycles_.emplace_back();
       cycles_.back().cycle = static_cast<int>(cycles_.size()) - 1;
