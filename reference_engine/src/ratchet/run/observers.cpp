@@ -132,9 +132,7 @@ void RunObservers::after_step(const World& world) {
       t > p.start_time - o.settled_profile_time + 0.5 * scene_.dt) {
     if (!in_settled_window_) {
       in_settled_window_ = true;
-      profile_impulse_.assign(static_cast<std::size_t>(o.wall_profile_bins), 0.0);
-      profile_time_ = 0.0;
-      profile_height_ = world.bed_height();
+      begin_wall_profile(world);
     }
     accumulate_wall_profile(world);
   }
@@ -187,9 +185,7 @@ void RunObservers::after_step(const World& world) {
       if (vtk) write_vtk(world, "cycle" + std::to_string(k) + "_end_cooling");
       if (o.wall_profile_bins > 0) {
         in_cold_hold_ = true;
-        profile_impulse_.assign(static_cast<std::size_t>(o.wall_profile_bins), 0.0);
-        profile_time_ = 0.0;
-        profile_height_ = world.bed_height();
+        begin_wall_profile(world);
         accumulate_wall_profile(world);  // a zero-length hold still gets this step
       }
     }
@@ -199,6 +195,13 @@ void RunObservers::after_step(const World& world) {
     }
   }
   t_prev_ = t;
+}
+
+// A new time-averaged profile (cold hold or settled window): the bed height now fixes the bands.
+void RunObservers::begin_wall_profile(const World& world) {
+  profile_impulse_.assign(static_cast<std::size_t>(scene_.outputs.wall_profile_bins), 0.0);
+  profile_time_ = 0.0;
+  profile_height_ = world.bed_height();
 }
 
 // One step of the cold hold: side-wall impulses binned by height (the bed height at the

@@ -49,6 +49,7 @@ class RunObservers {
   };
   StageEnds stage_ends(double t_prev, double t) const;
   void write_vtk(const World& world, const std::string& tag) const;
+  void begin_wall_profile(const World& world);
   void accumulate_wall_profile(const World& world);
   void flush_wall_profile(const World& world, int cycle);
 
