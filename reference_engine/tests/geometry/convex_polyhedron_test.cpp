@@ -76,6 +76,20 @@ void expect_valid_surface(const ConvexPolyhedron& s) {
       EXPECT_EQ(next, s.edges[i][static_cast<std::size_t>(1 - side)]) << "edge direction in its face";
     }
   }
+  // Vertex -> faces table: exactly the faces that contain the vertex, ascending.
+  ASSERT_EQ(s.vertex_face_start.size(), s.vertices.size() + 1);
+  EXPECT_EQ(s.vertex_face_start.front(), 0);
+  ASSERT_EQ(static_cast<std::size_t>(s.vertex_face_start.back()), s.vertex_face_list.size());
+  for (int vi = 0; vi < v; ++vi) {
+    std::vector<int> expected;
+    for (int fi = 0; fi < f; ++fi) {
+      const auto& face = s.faces[static_cast<std::size_t>(fi)];
+      if (std::find(face.begin(), face.end(), vi) != face.end()) expected.push_back(fi);
+    }
+    const std::vector<int> got(s.vertex_face_list.begin() + s.vertex_face_start[static_cast<std::size_t>(vi)],
+                               s.vertex_face_list.begin() + s.vertex_face_start[static_cast<std::size_t>(vi) + 1]);
+    EXPECT_EQ(got, expected) << "faces around vertex " << vi;
+  }
   double r = 0.0;
   for (const Vec3& x : s.vertices) r = std::max(r, x.norm());
   EXPECT_DOUBLE_EQ(s.bounding_radius, r);

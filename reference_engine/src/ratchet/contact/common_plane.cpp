@@ -866,6 +866,7 @@ struct ManifoldScratch {
   std::vector<RegionPoint> poly, next;
   std::vector<SideFace> faces_a, faces_b;
   std::vector<int> face_list;
+  std::vector<std::uint64_t> face_bits;
   std::vector<ContactPoint> candidates;
 };
 
@@ -957,13 +958,19 @@ void build_manifold(const PolyhedronView& a, const PolyhedronView& b, const Vec3
   // its faces always qualifies. The test runs in the body frame (3 multiplications).
   auto side_faces = [&](const PolyhedronView& p, const std::vector<int>& bandv, double sign,
                         std::vector<SideFace>& faces) {
-    // Faces around the band vertices (vertex_faces), each once, in ascending order so the
-    // reference face is the same whatever the band's order.
-    sc.face_list.clear();
+    // Faces around the band vertices (vertex_face_list), each once, in ascending order so the
+    // reference face is the same whatever the band's order: marked in a bit set, read
+    // back word by word (a sort of the list cost 7 % of a settled bed's step).
+    sc.face_bits.assign((p.shape->faces.size() + 63) / 64, 0);
+    const int* start = p.shape->vertex_face_start.data();
+    const int* list = p.shape->vertex_face_list.data();
     for (int i : bandv)
-      for (int f : p.shape->vertex_faces[static_cast<std::size_t>(i)]) sc.face_list.push_back(f);
-    std::sort(sc.face_list.begin(), sc.face_list.end());
-    sc.face_list.erase(std::unique(sc.face_list.begin(), sc.face_list.end()), sc.face_list.end());
+      for (int k = start[i]; k < start[i + 1]; ++k)
+        sc.face_bits[static_cast<std::size_t>(list[k]) >> 6] |= std::uint64_t{1} << (list[k] & 63);
+    sc.face_list.clear();
+    for (std::size_t w = 0; w < sc.face_bits.size(); ++w)
+      for (std::uint64_t bits = sc.face_bits[w]; bits != 0; bits &= bits - 1)
+        sc.face_list.push_back(static_cast<int>(64 * w) + __builtin_ctzll(bits));
     const Vec3 n_body = sign * (p.R.transpose() * n);
     faces.clear();
     int ref = -1;

@@ -246,9 +246,15 @@ void finish_shape(ConvexPolyhedron& s, const std::string& what) {
     s.edge_faces.push_back({half[i].face, half[i + 1].face});
   }
 
-  s.vertex_faces.assign(s.vertices.size(), {});
+  // Counting sort of (vertex, face) incidences by vertex; faces ascending within each.
+  s.vertex_face_start.assign(s.vertices.size() + 1, 0);
+  for (const std::vector<int>& face : s.faces)
+    for (int v : face) ++s.vertex_face_start[static_cast<std::size_t>(v) + 1];
+  for (std::size_t v = 0; v < s.vertices.size(); ++v) s.vertex_face_start[v + 1] += s.vertex_face_start[v];
+  s.vertex_face_list.assign(static_cast<std::size_t>(s.vertex_face_start.back()), 0);
+  std::vector<int> fill(s.vertex_face_start.begin(), s.vertex_face_start.end() - 1);
   for (std::size_t f = 0; f < s.faces.size(); ++f)
-    for (int v : s.faces[f]) s.vertex_faces[static_cast<std::size_t>(v)].push_back(static_cast<int>(f));
+    for (int v : s.faces[f]) s.vertex_face_list[static_cast<std::size_t>(fill[static_cast<std::size_t>(v)]++)] = static_cast<int>(f);
 
   s.bounding_radius = 0.0;
   for (const Vec3& v : s.vertices) s.bounding_radius = std::max(s.bounding_radius, v.norm());

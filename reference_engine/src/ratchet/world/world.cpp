@@ -286,26 +286,27 @@ void World::detect() {
 
 // Local relative velocity of A with respect to B at the contact (n, t1, t2), with the
 // expansion velocity: u = F^T (v_a - v_b) + J_a w_a - J_b w_b + u0.
-Vec3 World::local_velocity(const SolverContact& c) const {
-  Vec3 dv = state_.v[c.a];
-  if (c.b >= 0) dv -= state_.v[c.b];
-  Vec3 u = c.F.transpose() * dv + c.u0;
+Vec3 World::local_velocity(const SolverRow& r) const {
+  Vec3 dv = state_.v[r.a];
+  if (r.b >= 0) dv -= state_.v[r.b];
+  Vec3 u = r.F.transpose() * dv + r.u0;
   if (rotation_on_) {
-    u += c.Ja * state_.w[c.a];
-    if (c.b >= 0) u -= c.Jb * state_.w[c.b];
+    u += r.Ja * state_.w[r.a];
+    if (r.b >= 0) u -= r.Jb * state_.w[r.b];
   }
   return u;
 }
 
-// Applies the local impulse change d (on A, minus on B): v += m^-1 F d, w += M d.
-void World::apply_local_impulse(const SolverContact& c, const Vec3& d) {
+// Applies the local impulse change d (on A, minus on B): v += m^-1 F d,
+// w += I^-1 J^T d (J^T d = r x (F d), the angular impulse).
+void World::apply_local_impulse(const SolverRow& r, const Vec3& d) {
   const StepScratch& s = scratch_;
-  const Vec3 P = c.F * d;
-  state_.v[c.a] += s.inv_mass[c.a] * P;
-  if (rotation_on_) state_.w[c.a] += c.Ma * d;
-  if (c.b >= 0) {
-    state_.v[c.b] -= s.inv_mass[c.b] * P;
-    if (rotation_on_) state_.w[c.b] -= c.Mb * d;
+  const Vec3 P = r.F * d;
+  state_.v[r.a] += s.inv_mass[r.a] * P;
+  if (rotation_on_) state_.w[r.a] += s.inv_inertia[r.a] * (r.Ja.transpose() * d);
+  if (r.b >= 0) {
+    state_.v[r.b] -= s.inv_mass[r.b] * P;
+    if (rotation_on_) state_.w[r.b] -= s.inv_inertia[r.b] * (r.Jb.transpose() * d);
   }
 }
 
@@ -316,7 +317,13 @@ void World::build_solver_contacts() {
   const double h = scene_.dt;
   const double p_gap = scene_.solver.p_gap;
   [[maybe_unused]] const Vec3& c0 = scene_.container.scale_center;  // unused in the planted build
-  for (SolverContact& c : s.contacts) {
+  s.rows.resize(s.contacts.size());
+  for (std::size_t k = 0; k < s.contacts.size(); ++k) {
+    SolverContact& c = s.contacts[k];
+    SolverRow& r = s.rows[k];
+    r.a = c.a;
+    r.b = c.b;
+    r.mu = c.mu;
     const Vec3& n = c.geometry.normal;
     const Vec3& p = c.geometry.point;
     c.ra = p - state_.x[c.a];
@@ -338,39 +345,37 @@ void World::build_solver_contacts() {
     // Columns computed one by one with the same expressions in the frictionless and
     // the frictional case, so that mu = 0 reproduces friction-off bit for bit.
     const Vec3 Kn = K * n;
-    c.W.setZero();
-    c.W(0, 0) = n.dot(Kn);
+    r.W.setZero();
+    r.W(0, 0) = n.dot(Kn);
     if (friction_on_) {
       tangent_frame(n, c.t1, c.t2);
       const Vec3 Kt1 = K * c.t1, Kt2 = K * c.t2;
-      c.W(1, 0) = c.t1.dot(Kn); c.W(2, 0) = c.t2.dot(Kn);
-      c.W(0, 1) = n.dot(Kt1);   c.W(1, 1) = c.t1.dot(Kt1); c.W(2, 1) = c.t2.dot(Kt1);
-      c.W(0, 2) = n.dot(Kt2);   c.W(1, 2) = c.t1.dot(Kt2); c.W(2, 2) = c.t2.dot(Kt2);
+      r.W(1, 0) = c.t1.dot(Kn); r.W(2, 0) = c.t2.dot(Kn);
+      r.W(0, 1) = n.dot(Kt1);   r.W(1, 1) = c.t1.dot(Kt1); r.W(2, 1) = c.t2.dot(Kt1);
+      r.W(0, 2) = n.dot(Kt2);   r.W(1, 2) = c.t1.dot(Kt2); r.W(2, 2) = c.t2.dot(Kt2);
     }
-    c.F.col(0) = n;
-    c.F.col(1) = c.t1;
-    c.F.col(2) = c.t2;
+    r.F.col(0) = n;
+    r.F.col(1) = c.t1;
+    r.F.col(2) = c.t2;
+    r.Ja.setZero();
+    r.Jb.setZero();
     if (rotation_on_) {
       for (int k = 0; k < 3; ++k) {
-        const Vec3 ra_e = c.ra.cross(c.F.col(k));
-        c.Ja.row(k) = ra_e.transpose();
-        c.Ma.col(k) = s.inv_inertia[c.a] * ra_e;
-        if (c.b >= 0) {
-          const Vec3 rb_e = c.rb.cross(c.F.col(k));
-          c.Jb.row(k) = rb_e.transpose();
-          c.Mb.col(k) = s.inv_inertia[c.b] * rb_e;
-        }
+        r.Ja.row(k) = c.ra.cross(r.F.col(k)).transpose();
+        if (c.b >= 0) r.Jb.row(k) = c.rb.cross(r.F.col(k)).transpose();
       }
     }
-    if (friction_on_) c.W_inv = c.W.inverse();
-    c.u0 = c.F.transpose() * c.u_expansion;
+    r.W_inv.setZero();
+    if (friction_on_) r.W_inv = r.W.inverse();
+    r.u0 = r.F.transpose() * c.u_expansion;
     // Gap relaxation (design.md s. 2): an overlap closes at p_gap g / h per step.
     const double g = c.geometry.gap;
     const double g_eff = g >= 0.0 ? g : p_gap * g;
     // Velocity-level Signorini (design.md s. 3, item 4): u_n(t+h) >= -g_eff / h. Theta
     // enters the position update only; a gap-based bias with theta < 1 would turn an
     // inelastic landing into a rebound.
-    c.bias = g_eff / h;
+    r.bias = g_eff / h;
+    r.lambda.setZero();
     c.lambda.setZero();
   }
 }
@@ -379,10 +384,12 @@ void World::build_solver_contacts() {
 // new frame and clipped to the friction cone.
 void World::warm_start() {
   if (!scene_.solver.warm_start || state_.impulses.empty()) return;
-  for (SolverContact& c : scratch_.contacts) {
+  StepScratch& s = scratch_;
+  for (std::size_t k = 0; k < s.contacts.size(); ++k) {
+    const SolverContact& c = s.contacts[k];
     const ContactKey key{c.a, c.b, c.geometry.feature_a, c.geometry.feature_b};
     auto it = std::lower_bound(state_.impulses.begin(), state_.impulses.end(), key,
-                               [](const KeptImpulse& k, const ContactKey& x) { return k.key < x; });
+                               [](const KeptImpulse& x, const ContactKey& y) { return x.key < y; });
     if (it == state_.impulses.end() || !(it->key == key)) continue;
     const Vec3& P = it->impulse;
     const double ln = std::max(0.0, c.geometry.normal.dot(P));
@@ -395,8 +402,8 @@ void World::warm_start() {
       lambda[1] = l1;
       lambda[2] = l2;
     }
-    c.lambda = lambda;
-    apply_local_impulse(c, lambda);
+    s.rows[k].lambda = lambda;
+    apply_local_impulse(s.rows[k], lambda);
   }
 }
 
@@ -429,7 +436,7 @@ double World::velocity_change(const std::vector<Vec3>& v0, const std::vector<Vec
 //   change no velocity. Close to LMGC90's 'Quad' norm, which divides the change of
 //   the local velocities by W lambda.
 void World::gauss_seidel() {
-  std::vector<SolverContact>& cs = scratch_.contacts;
+  std::vector<SolverRow>& cs = scratch_.rows;
   StepScratch& s = scratch_;
   const double tol = scene_.solver.tolerance;
   const bool by_velocity = scene_.solver.criterion == Criterion::Velocity;
@@ -441,7 +448,7 @@ void World::gauss_seidel() {
   for (it = 1; it <= scene_.solver.max_iterations && !cs.empty(); ++it) {
     if (by_velocity) { s.v_sweep = state_.v; s.w_sweep = state_.w; }
     double d2 = 0.0, l2 = 0.0;
-    for (SolverContact& c : cs) {
+    for (SolverRow& c : cs) {
       const Vec3 u = local_velocity(c);
       Vec3 lambda_new;
       if (friction_on_) {
@@ -468,14 +475,14 @@ void World::gauss_seidel() {
     }
     if (it == half) {
       normal_half = 0.0;
-      for (const SolverContact& c : cs) normal_half += c.lambda[0];
+      for (const SolverRow& c : cs) normal_half += c.lambda[0];
     }
     if (residual < tol) break;
   }
   stats_.iterations = cs.empty() ? 0 : std::min(it, scene_.solver.max_iterations);
   stats_.converged = cs.empty() || residual < tol;
   double normal_end = 0.0;
-  for (const SolverContact& c : cs) normal_end += c.lambda[0];
+  for (const SolverRow& c : cs) normal_end += c.lambda[0];
   // An unconverged step whose normal impulses still grew by half over the second half
   // of its sweeps signals a rigid problem with no solution: there they grow in
   // proportion to the sweep count (see keep_impulses). A solvable problem that is
@@ -493,6 +500,7 @@ void World::solve() {
   if (scene_.solver.criterion == Criterion::Velocity) { scratch_.v_free = state_.v; scratch_.w_free = state_.w; }
   warm_start();
   gauss_seidel();
+  for (std::size_t k = 0; k < scratch_.contacts.size(); ++k) scratch_.contacts[k].lambda = scratch_.rows[k].lambda;
 }
 
 // 5. Positions: x += h ((1 - theta) v(t) + theta v(t+h)); orientation by the exponential

@@ -80,8 +80,8 @@ class World {
   void warm_start();
   void gauss_seidel();
   double velocity_change(const std::vector<Vec3>& v0, const std::vector<Vec3>& w0) const;
-  void apply_local_impulse(const SolverContact& c, const Vec3& d);
-  Vec3 local_velocity(const SolverContact& c) const;
+  void apply_local_impulse(const SolverRow& r, const Vec3& d);
+  Vec3 local_velocity(const SolverRow& r) const;
 
   SceneDef scene_;
   State state_;
