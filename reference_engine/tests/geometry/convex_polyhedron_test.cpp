@@ -93,6 +93,7 @@ void expect_valid_surface(const ConvexPolyhedron& s) {
   double r = 0.0;
   for (const Vec3& x : s.vertices) r = std::max(r, x.norm());
   EXPECT_DOUBLE_EQ(s.bounding_radius, r);
+  EXPECT_EQ(s.min_face_offset, *std::min_element(s.face_offsets.begin(), s.face_offsets.end()));
 }
 
 TEST(ConvexPolyhedron, UnitCubeMassProperties) {

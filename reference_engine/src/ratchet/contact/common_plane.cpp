@@ -371,8 +371,7 @@ void offer(Candidate& best, double s, const Vec3& n, PlaneFeature kind, int ia, 
 // Inradius about the centre of mass (world units), or a valid lower bound of the
 // support function when the centre were outside (never for a hull about its centroid).
 double inradius(const PolyhedronView& p) {
-  const auto& off = p.shape->face_offsets;
-  const double rho = *std::min_element(off.begin(), off.end());
+  const double rho = p.shape->min_face_offset;
   return rho > 0.0 ? p.scale * rho : -p.scale * p.shape->bounding_radius;
 }
 

@@ -258,6 +258,7 @@ void finish_shape(ConvexPolyhedron& s, const std::string& what) {
 
   s.bounding_radius = 0.0;
   for (const Vec3& v : s.vertices) s.bounding_radius = std::max(s.bounding_radius, v.norm());
+  s.min_face_offset = *std::min_element(s.face_offsets.begin(), s.face_offsets.end());
 }
 
 }  // namespace

@@ -28,6 +28,8 @@ struct ConvexPolyhedron {
   Vec3 principal_inertia = Vec3::Zero();  // per unit density at scale 1: I = diag(principal_inertia);
                                           // ascending, except build_box (x, y, z order)
   double bounding_radius = 0.0;           // max |vertex| (about the centroid)
+  double min_face_offset = 0.0;           // min face offset: the inradius about the centroid
+                                          // (the largest ball there inside), if positive
 };
 
 // A hull and the frame it was built in: input point p maps to body frame as
