@@ -694,10 +694,15 @@ CommonPlaneResult solve(const PolyhedronView& a, const PolyhedronView& b, Common
   Simplex seed;
   bool try_gjk = false;
 
+  // The start axis's value, kept: when no facet beats the start (a warm-started resting
+  // contact) finish() reports it without a second scan of the vertices.
+  bool start_known = false;
+  Vec3 start_n = Vec3::Zero();
+  double start_s = 0.0;
   auto finish = [&](const Candidate& c) {
     // The gap reported is s(n) over the world vertices at the normal reported.
     r.normal = c.n;
-    r.gap = evaluate_axis(a, b, c.n).s;
+    r.gap = start_known && c.n == start_n ? start_s : evaluate_axis(a, b, c.n).s;
     r.feature = c.kind;
     r.separated = r.gap > 0.0;
     return r;
@@ -740,6 +745,9 @@ CommonPlaneResult solve(const PolyhedronView& a, const PolyhedronView& b, Common
     }
     const AxisValue av = evaluate_axis(a, b, n0);
     ++r.sat_axes;
+    start_known = true;
+    start_n = n0;
+    start_s = av.s;
     best.s = av.s;
     best.n = n0;
     best.kind = kind;
@@ -866,6 +874,7 @@ struct ManifoldScratch {
   std::vector<SideFace> faces_a, faces_b;
   std::vector<int> face_list;
   std::vector<std::uint64_t> face_bits;
+  std::vector<double> height_a, height_b;  // n.x of every vertex
   std::vector<ContactPoint> candidates;
 };
 
@@ -938,17 +947,28 @@ void build_manifold(const PolyhedronView& a, const PolyhedronView& b, const Vec3
   auto to3 = [&](const Pt2& p) { return Vec3(t1 * p.x + t2 * p.y); };
 
   // Band features: A's vertices near its lowest plane along n, B's near its highest.
-  double ha = 0.0, hb = 0.0;
-  const int sa = argmin_dot(a.world_vertices, nva, n, ha);
-  const int sb = argmax_dot(b.world_vertices, nvb, n, hb);
+  // The heights n.x of every vertex once (as argmin_dot / argmax_dot compute them), for
+  // the supports and the band alike.
+  sc.height_a.resize(static_cast<std::size_t>(nva));
+  sc.height_b.resize(static_cast<std::size_t>(nvb));
+  int sa = 0, sb = 0;
+  for (int i = 0; i < nva; ++i) {
+    sc.height_a[static_cast<std::size_t>(i)] = n.dot(a.world_vertices[i]);
+    if (sc.height_a[static_cast<std::size_t>(i)] < sc.height_a[static_cast<std::size_t>(sa)]) sa = i;
+  }
+  for (int j = 0; j < nvb; ++j) {
+    sc.height_b[static_cast<std::size_t>(j)] = n.dot(b.world_vertices[j]);
+    if (sc.height_b[static_cast<std::size_t>(j)] > sc.height_b[static_cast<std::size_t>(sb)]) sb = j;
+  }
+  const double ha = sc.height_a[static_cast<std::size_t>(sa)], hb = sc.height_b[static_cast<std::size_t>(sb)];
   sc.band_a.clear();
   sc.band_b.clear();
   sc.pa.clear();
   sc.pb.clear();
   for (int i = 0; i < nva; ++i)
-    if (n.dot(a.world_vertices[i]) <= ha + band) { sc.band_a.push_back(i); sc.pa.push_back(to2(a.world_vertices[i])); }
+    if (sc.height_a[static_cast<std::size_t>(i)] <= ha + band) { sc.band_a.push_back(i); sc.pa.push_back(to2(a.world_vertices[i])); }
   for (int j = 0; j < nvb; ++j)
-    if (n.dot(b.world_vertices[j]) >= hb - band) { sc.band_b.push_back(j); sc.pb.push_back(to2(b.world_vertices[j])); }
+    if (sc.height_b[static_cast<std::size_t>(j)] >= hb - band) { sc.band_b.push_back(j); sc.pb.push_back(to2(b.world_vertices[j])); }
 
   // Faces touching the band (they carry the surface over the band region) and the
   // reference face of each side (most aligned with the plane).
