@@ -20,8 +20,11 @@
 // it to rest and rebuild the warm start: the first 200 with every velocity zeroed after
 // the step (kinetic damping, see bring_to_rest), then until KE < 1e-9 of the peak and a
 // step needs at most 10 sweeps (a static bed, warm started, needs a few), at least 300
-// and at most 2000 steps in all (RATCHET_BENCH_REST_STEPS=K caps them at K). A cached
-// state goes through the same rest again.
+// and at most 2000 steps in all (RATCHET_BENCH_REST_STEPS=K caps them at K;
+// RATCHET_BENCH_QUENCH_STEPS=Q quenches Q steps instead of 200;
+// RATCHET_BENCH_REST_CRITERION=velocity rests with solver.criterion "velocity"). A cached
+// state goes through the same rest again; RATCHET_BENCH_REST_STEPS=1
+// RATCHET_BENCH_QUENCH_STEPS=0 times a cached bed as it is (one step, not saved).
 //
 // The state (poses, velocities, kept impulses and common planes) is cached in
 // $RATCHET_BENCH_CACHE (default /tmp/ratchet_step_bench, io/state_file format), keyed
@@ -49,6 +52,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "bench_bed.hpp"
 #include "ratchet/io/state_file.hpp"
 #include "ratchet/scene/scene.hpp"
 #include "ratchet/world/world.hpp"
@@ -71,24 +75,8 @@ constexpr double kRestKeRatio = 1e-9;  // KE < kRestKeRatio * peak and
 constexpr int kRestSweeps = 10;        // at most this many sweeps in the step
 constexpr int kCacheVersion = 2;  // 2: io/state_file
 
-double cylinder_radius(int n) { return 5.0 * std::sqrt(static_cast<double>(n) / 250.0); }
-
-// criterion: solver.criterion, written only when not the default (the cache key
-// hashes the scene, so the cached beds stay valid).
-json bed_scene(int n, double dt, double tolerance, int max_iterations, const char* criterion = nullptr) {
-  json j{
-      {"name", "step_bench_" + std::to_string(n)},
-      {"seed", 12345},
-      {"time", {{"dt", dt}, {"duration", 1000.0}}},
-      {"solver", {{"tolerance", tolerance}, {"max_iterations", max_iterations}, {"warm_start", true}}},
-      {"materials", {{"friction", 0.5}, {"wall_friction", 0.5}}},
-      {"container", {{"type", "cone"}, {"bottom_radius", cylinder_radius(n)}, {"opening_angle_deg", 0}, {"segments", 16}}},
-      {"particles",
-       {{"generate",
-         {{"count", n}, {"shape", "polyhedron"}, {"vertices", 20}, {"radius_range", {0.5, 1.0}}, {"spacing", 2.3}}}}}};
-  if (criterion != nullptr) j["solver"]["criterion"] = criterion;
-  return j;
-}
+using bench::bed_scene;
+using bench::cylinder_radius;
 
 struct SettleInfo {
   double peak = 0.0;           // peak kinetic energy of the pour
@@ -194,10 +182,15 @@ struct Bed {
 int bring_to_rest(World& world, const SettleInfo& info, int min_steps, int quench) {
   const char* env = std::getenv("RATCHET_BENCH_REST_STEPS");  // cap for a quick look; default kMaxRestSteps
   const int max_steps = env != nullptr && *env != '\0' ? std::max(1, std::atoi(env)) : kMaxRestSteps;
+  const auto wall0 = std::chrono::steady_clock::now();
   int k = 0;
   while (k < max_steps) {
     world.step();
     ++k;
+    if (k % 250 == 0)  // progress: a long rest of a large bed takes many minutes
+      std::fprintf(stderr, "  resting: step %d, KE/peak = %.2e, %d sweeps (%.0f s)\n", k,
+                   world.kinetic_energy() / info.peak, world.stats().iterations,
+                   std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count());
     if (k <= quench) {
       State& s = world.mutable_state();
       for (Vec3& v : s.v) v.setZero();
@@ -235,10 +228,18 @@ Bed& settled_bed(int n) {
   // large bed find a static configuration; the cache keeps the result).
   const char* quench_env = std::getenv("RATCHET_BENCH_QUENCH_STEPS");
   const int quench = quench_env != nullptr && *quench_env != '\0' ? std::max(0, std::atoi(quench_env)) : kQuenchSteps;
-  const int steps = bring_to_rest(*bed.world, bed.info, std::max(min_steps, quench + 1), quench);
+  // RATCHET_BENCH_REST_CRITERION=velocity: rest with solver.criterion "velocity" (fewer
+  // sweeps per step on a large bed, so a long rest costs less; the state is the same kind).
+  bed.by_velocity = std::make_unique<World>(build_scene(bed_scene(n, kBenchDt, 1e-4, 1000, "velocity"), "step_bench"));
+  const char* crit_env = std::getenv("RATCHET_BENCH_REST_CRITERION");
+  const bool rest_by_velocity = crit_env != nullptr && std::string(crit_env) == "velocity";
+  World& rest_world = rest_by_velocity ? *bed.by_velocity : *bed.world;
+  if (rest_by_velocity) rest_world.mutable_state() = bed.world->state();
+  const int steps = bring_to_rest(rest_world, bed.info, std::max(min_steps, quench + 1), quench);
+  if (rest_by_velocity) bed.world->mutable_state() = rest_world.state();
   std::fprintf(stderr,
                "step_bench: N = %d, %d steps at h = %g, tolerance 1e-4: KE/peak = %.2e, %d sweeps in the last (%.0f s)\n",
-               n, steps, kBenchDt, bed.world->kinetic_energy() / bed.info.peak, bed.world->stats().iterations,
+               n, steps, kBenchDt, rest_world.kinetic_energy() / bed.info.peak, rest_world.stats().iterations,
                std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count());
   if (steps > 1) {
     save_state(path, key, bed.world->state(), bed.info);
@@ -246,7 +247,6 @@ Bed& settled_bed(int n) {
   }
   bed.rested = bed.world->state();
   bed.fixed10 = std::make_unique<World>(build_scene(bed_scene(n, kBenchDt, 1e-300, 10), "step_bench"));
-  bed.by_velocity = std::make_unique<World>(build_scene(bed_scene(n, kBenchDt, 1e-4, 1000, "velocity"), "step_bench"));
   return beds.emplace(n, std::move(bed)).first->second;
 }
 
