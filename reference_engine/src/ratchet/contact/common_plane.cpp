@@ -979,7 +979,7 @@ void build_manifold(const PolyhedronView& a, const PolyhedronView& b, const Vec3
                         std::vector<SideFace>& faces) {
     // Faces around the band vertices (vertex_face_list), each once, in ascending order so the
     // reference face is the same whatever the band's order: marked in a bit set, read
-    // back word by word (a sort of the list cost 7 % of a settled bed's step).
+    // back word by word (was a sort and unique of the list for every pair).
     sc.face_bits.assign((p.shape->faces.size() + 63) / 64, 0);
     const int* start = p.shape->vertex_face_start.data();
     const int* list = p.shape->vertex_face_list.data();
