@@ -23,8 +23,10 @@ thermal cycle) and checks, with the tolerances stated below (docs/liggghts.md):
      both angles: the peak rises with the ratio. With --seeds 8 9 every ratio (10
      included) also runs with these seeds, and the checks use the mean over the 3
      realizations: single realizations differ between the methods by -45 % to +104 %
-     (docs/liggghts.md), the means by -1 % to +33 %. CTest (liggghts_quick) runs
-     --ratios 1 5 --seeds 8 9.
+     (docs/liggghts.md), the means by -1 % to +33 %. The two trend signs then allow one
+     standard error of the realization scatter (the cone's ratio at alpha_c/alpha_p = 10
+     below 1 + 1 SE; the rise from ratio 1 to 10, with no step down beyond 1 SE).
+     CTest (liggghts_quick) runs --ratios 1 5 --seeds 8 9.
 
 With RATCHET_CHECKS_DIR set, the comparison figures (pressure against time, stiffness)
 are also copied to its sibling folder figures/ for the validation report.
@@ -71,6 +73,15 @@ TOL = {
                          "realizations: the same reasons as at ratio 10; one realization alone scatters by -45 % "
                          "to +104 % between the methods, the 3-realization means by -1 % to +33 %"),
 }
+
+
+def mean_se(values):
+    """Mean and standard error (sample std / sqrt(k); 0 for a single value)."""
+    k = len(values)
+    m = sum(values) / k
+    if k < 2:
+        return m, 0.0
+    return m, math.sqrt(sum((v - m) ** 2 for v in values) / (k - 1) / k)
 
 
 def record(case, check, measured, expected, tolerance, passed, reason):
@@ -329,15 +340,10 @@ def main(argv=None):
             ok &= record(case, f"|DEM - NSCD| / NSCD peak, {Es[-1]:.3g} Pa", gap_stiff, f"< {gap_soft:.4g} "
                          f"(at {Es[0]:.3g} Pa)", "upper bound: the softer run's difference", gap_stiff < gap_soft,
                          "stiffness convergence: as E rises the DEM peak approaches the rigid NSCD peak")
-    if 0 in peaks and 6 in peaks:
-        case = "liggghts_quick_trend"
-        for i, name in ((0, "NSCD"), (1, f"DEM {stiff}")):
-            ratio = peaks[6][i] / peaks[0][i]
-            ok &= record(case, f"peak(6 deg) / peak(0 deg), {name}", ratio, "< 1", "upper bound 1", ratio < 1.0,
-                         "an opening angle lowers the peak wall pressure (paper: 6 degrees halves it)")
     # (c) the ratio: peaks, and the peak rising with alpha_c/alpha_p in both methods. With
     # --seeds every point is the mean over the realizations (the scene's seed and these).
     ratio_rows = []  # (theta, ratio, realizations, NSCD mean, DEM mean) for the note
+    ratio10_runs = {theta: [peaks[theta]] for theta in peaks}  # per realization at the base ratio 10
     for theta in SCENES:
         if theta not in peaks or not args.ratios:
             continue
@@ -357,7 +363,9 @@ def main(argv=None):
             k = len(runs)
             n_mean = sum(r[0] for r in runs) / k
             d_mean = sum(r[1] for r in runs) / k
-            by_ratio[ratio] = (n_mean, d_mean)
+            by_ratio[ratio] = (mean_se([r[0] for r in runs]), mean_se([r[1] for r in runs]))
+            if ratio == 10.0:
+                ratio10_runs[theta] = runs
             ratio_rows.append((theta, ratio, k, n_mean, d_mean))
             if k > 1:
                 diffs = [(r[1] - r[0]) / r[0] for r in runs]
@@ -370,13 +378,40 @@ def main(argv=None):
                                 n_mean, "peak_ratio")
         order = sorted(by_ratio)
         for i, name in ((0, "NSCD"), (1, f"DEM {stiff}")):
-            values = [by_ratio[r][i] for r in order]
-            rising = all(b > a for a, b in zip(values, values[1:]))
+            values = [by_ratio[r][i][0] for r in order]
+            errors = [by_ratio[r][i][1] for r in order]
             shown = ", ".join(f"{v:.4g}" for v in values)
+            if max(errors) > 0.0:
+                # Means over realizations: the peak rises from the first ratio to the last,
+                # and no step falls by more than one standard error of the difference.
+                rising = values[-1] > values[0] and all(
+                    b - a > -math.hypot(ea, eb) for a, b, ea, eb in zip(values, values[1:], errors, errors[1:]))
+                tol = "rising first to last; no step down beyond 1 SE of the difference (k = 1, as the quick trends)"
+                shown += " (SE " + ", ".join(f"{e:.3g}" for e in errors) + ")"
+            else:
+                rising = all(b > a for a, b in zip(values, values[1:]))
+                tol = "strictly increasing"
             ok &= record(f"liggghts_quick_theta{theta}_ratios", f"peak rises with alpha_c/alpha_p, {name}",
-                         values[-1] / values[0], f"rising over ratios {order}: {shown}", "strictly increasing",
+                         values[-1] / values[0], f"rising over ratios {order}: {shown}", tol,
                          rising, "the container contracting more than the particles squeezes the bed harder "
                                  "(paper: P_max grows with alpha_c/alpha_p)")
+    # (d) the cone lowers the peak: 6 against 0 degrees at the base ratio, over the
+    # realizations there (--seeds) with one standard error of the ratio of the means as
+    # margin (k = 1, as the quick-tier trends of docs/trends.md): a single 108-sphere
+    # realization scatters by up to a factor 2 between seeds, and this bed is short (a 6
+    # degree wall moves out little over its height), so one realization can invert it.
+    if 0 in peaks and 6 in peaks:
+        case = "liggghts_quick_trend"
+        for i, name in ((0, "NSCD"), (1, f"DEM {stiff}")):
+            m0, e0 = mean_se([r[i] for r in ratio10_runs[0]])
+            m6, e6 = mean_se([r[i] for r in ratio10_runs[6]])
+            ratio = m6 / m0
+            se = ratio * math.hypot(e6 / m6, e0 / m0)
+            k = min(len(ratio10_runs[0]), len(ratio10_runs[6]))
+            what = f"mean over {k} realizations" if k > 1 else "one realization"
+            ok &= record(case, f"peak(6 deg) / peak(0 deg), {name} ({what})", ratio, f"< {1.0 + se:.4g}",
+                         "upper bound 1 + 1 SE of the ratio" if k > 1 else "upper bound 1", ratio < 1.0 + se,
+                         "an opening angle lowers the peak wall pressure (paper: 6 degrees halves it)")
     write_note(Es, summaries, ratio_rows)
     print(f"check: {'all checks passed' if ok else 'some checks FAILED'}", file=sys.stderr)
     return 0 if ok else 1
