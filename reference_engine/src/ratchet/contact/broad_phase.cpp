@@ -93,7 +93,14 @@ void find_candidate_pairs(const std::vector<Vec3>& centers, const std::vector<do
           }
     }
   }
-  std::sort(pairs.begin(), pairs.end());
+  // Both branches emit the pairs grouped by their first body, in ascending order; only
+  // the few partners of each body need sorting, not the whole list.
+  for (std::size_t lo_k = 0; lo_k < pairs.size();) {
+    std::size_t hi_k = lo_k + 1;
+    while (hi_k < pairs.size() && pairs[hi_k].first == pairs[lo_k].first) ++hi_k;
+    std::sort(pairs.begin() + static_cast<std::ptrdiff_t>(lo_k), pairs.begin() + static_cast<std::ptrdiff_t>(hi_k));
+    lo_k = hi_k;
+  }
 }
 
 }  // namespace ratchet

@@ -882,17 +882,29 @@ struct ManifoldScratch {
 // (within eps in doubled area) dropped. Writes indices into `hull`.
 void hull_2d(const std::vector<Pt2>& pts, double eps, std::vector<int>& order, std::vector<int>& hull) {
   const int n = static_cast<int>(pts.size());
-  order.resize(static_cast<std::size_t>(n));
-  for (int i = 0; i < n; ++i) order[static_cast<std::size_t>(i)] = i;
-  std::sort(order.begin(), order.end(), [&](int i, int j) {
+  auto before = [&](int i, int j) {
     const Pt2& p = pts[static_cast<std::size_t>(i)];
     const Pt2& q = pts[static_cast<std::size_t>(j)];
     if (p.x != q.x) return p.x < q.x;
     if (p.y != q.y) return p.y < q.y;
     return i < j;
-  });
+  };
+  // One or two band vertices (a vertex or an edge, the common case): the chain below
+  // would return them in sorted order.
+  if (n <= 2) {
+    hull.resize(static_cast<std::size_t>(n));
+    if (n >= 1) hull[0] = 0;
+    if (n == 2) {
+      const bool swap = before(1, 0);
+      hull[0] = swap ? 1 : 0;
+      hull[1] = swap ? 0 : 1;
+    }
+    return;
+  }
+  order.resize(static_cast<std::size_t>(n));
+  for (int i = 0; i < n; ++i) order[static_cast<std::size_t>(i)] = i;
+  std::sort(order.begin(), order.end(), before);
   hull.assign(static_cast<std::size_t>(2 * n + 1), 0);
-  if (n == 1) { hull.resize(1); hull[0] = order[0]; return; }
   int k = 0;
   auto at = [&](int h) -> const Pt2& { return pts[static_cast<std::size_t>(hull[static_cast<std::size_t>(h)])]; };
   for (int i = 0; i < n; ++i) {
@@ -1003,9 +1015,6 @@ void build_manifold(const PolyhedronView& a, const PolyhedronView& b, const Vec3
     }
     return ref;
   };
-  const int ref_a = side_faces(a, sc.band_a, -1.0, sc.faces_a);
-  const int ref_b = side_faces(b, sc.band_b, +1.0, sc.faces_b);
-
   hull_2d(sc.pa, eps2, sc.order, sc.hull_a);
   hull_2d(sc.pb, eps2, sc.order, sc.hull_b);
   auto collapse = [&](std::vector<int>& h, const std::vector<Pt2>& p) {
@@ -1017,6 +1026,12 @@ void build_manifold(const PolyhedronView& a, const PolyhedronView& b, const Vec3
   collapse(sc.hull_a, sc.pa);
   collapse(sc.hull_b, sc.pb);
   const int ma = static_cast<int>(sc.hull_a.size()), mb = static_cast<int>(sc.hull_b.size());
+  // A side whose band feature is one vertex needs neither its faces nor its reference
+  // face: every region point is then that vertex (exact height, vertex id).
+  sc.faces_a.clear();
+  sc.faces_b.clear();
+  const int ref_a = ma >= 2 ? side_faces(a, sc.band_a, -1.0, sc.faces_a) : -1;
+  const int ref_b = mb >= 2 ? side_faces(b, sc.band_b, +1.0, sc.faces_b) : -1;
   auto vert_a = [&](int h) { return sc.band_a[static_cast<std::size_t>(sc.hull_a[static_cast<std::size_t>(h % ma)])]; };
   auto vert_b = [&](int h) { return sc.band_b[static_cast<std::size_t>(sc.hull_b[static_cast<std::size_t>(h % mb)])]; };
   auto pt_a = [&](int h) { return sc.pa[static_cast<std::size_t>(sc.hull_a[static_cast<std::size_t>(h % ma)])]; };
