@@ -10,8 +10,11 @@
 // STATE_FILE: a cached bed of step_bench (io/state_file format, $RATCHET_BENCH_CACHE);
 // OUT_STATE: write the state after the steps there (every 250 steps and at the end),
 // with the cache's key and metadata, so that step_bench can time the rested bed.
+// RATCHET_TRACE_BODY=i: after every step also body i's velocities and its contacts
+// (partner, gap, lambda_n, |lambda_t|, normal, feature ids).
 // Exit status 2 on bad arguments or an unreadable state file.
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <exception>
@@ -67,6 +70,10 @@ int main(int argc, char** argv) {
     out.state = world.state();
     write_state_file(argv[5], out);
   };
+  // RATCHET_TRACE_BODY=i: after every step, body i's velocities and its contacts.
+  const char* watch_env = std::getenv("RATCHET_TRACE_BODY");
+  const int watch = watch_env != nullptr ? std::atoi(watch_env) : -1;
+  if (watch >= static_cast<int>(file.state.x.size())) return usage("RATCHET_TRACE_BODY is not a body of the bed");
   std::printf("step sweeps contacts active kept hits active_missed overlaps mean_overlap min_gap KE_over_peak\n");
   for (int k = 0; k < steps; ++k) {
     const std::vector<KeptImpulse> kept = world.state().impulses;
@@ -89,6 +96,18 @@ int main(int argc, char** argv) {
     std::printf("%d %d %zu %d %zu %d %d %d %.3e %.3e %.3e\n", k, world.stats().iterations, world.contacts().size(),
                 active, kept.size(), hits, missed, overlaps, overlaps > 0 ? depth / overlaps : 0.0, min_gap,
                 peak > 0.0 ? world.kinetic_energy() / peak : 0.0);
+    if (watch >= 0) {
+      const State& st = world.state();
+      const auto w = static_cast<std::size_t>(watch);
+      std::printf("#  body %d: v %.3e %.3e %.3e  w %.3e %.3e %.3e\n", watch, st.v[w].x(), st.v[w].y(), st.v[w].z(),
+                  st.w[w].x(), st.w[w].y(), st.w[w].z());
+      for (const SolverContact& c : world.contacts())
+        if (c.a == watch || c.b == watch)
+          std::printf("#    with %d: gap %.3e lambda_n %.3e |lambda_t| %.3e n %.3f %.3f %.3f features %d %d\n",
+                      c.a == watch ? c.b : c.a, c.geometry.gap, c.lambda[0], std::hypot(c.lambda[1], c.lambda[2]),
+                      c.geometry.normal.x(), c.geometry.normal.y(), c.geometry.normal.z(), c.geometry.feature_a,
+                      c.geometry.feature_b);
+    }
     if (k % 250 == 249) save();
   }
   save();
