@@ -40,22 +40,8 @@ LocalSolution solve_local_coulomb(const Mat3& W, const Vec3& w, double mu) {
   return solve_local_coulomb(W, W.inverse(), w, mu);
 }
 
-LocalSolution solve_local_coulomb(const Mat3& W, const Mat3& W_inv, const Vec3& w, double mu) {
+LocalSolution solve_local_slide(const Mat3& W, const Vec3& w, double mu, const Vec3& stick, double lt) {
   LocalSolution sol;
-  if (w[0] >= 0.0) return sol;  // the gap stays open with no impulse
-  if (mu == 0.0) {
-    sol.lambda = Vec3(solve_local_normal(W(0, 0), w[0]), 0.0, 0.0);
-    sol.status = LocalStatus::Slide;
-    return sol;
-  }
-  // Stick: u = 0.
-  const Vec3 stick = -(W_inv * w);
-  const double lt = std::sqrt(stick[1] * stick[1] + stick[2] * stick[2]);  // no overflow: impulses are O(1)
-  if (stick[0] > 0.0 && lt <= mu * stick[0]) {
-    sol.lambda = stick;
-    sol.status = LocalStatus::Stick;
-    return sol;
-  }
   sol.status = LocalStatus::Slide;
   // Slide: find the direction d with u_t(d) = -k d, k > 0. Fixed point
   // d <- -u_t(d)/|u_t(d)| from the stick trial direction; it converges in one step when
