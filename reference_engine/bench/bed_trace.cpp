@@ -14,6 +14,8 @@
 // (partner, gap, lambda_n, |lambda_t|, normal, feature ids).
 // Exit status 2 on bad arguments or an unreadable state file.
 #include <algorithm>
+#include <cerrno>
+#include <climits>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -35,6 +37,16 @@ int usage(const char* why) {
   return 2;
 }
 
+// A whole decimal int, nothing else (atoi would read "12x" as 12 and "x" as 0).
+bool parse_int(const char* text, int& out) {
+  char* end = nullptr;
+  errno = 0;
+  const long v = std::strtol(text, &end, 10);
+  if (end == text || *end != '\0' || errno != 0 || v < INT_MIN || v > INT_MAX) return false;
+  out = static_cast<int>(v);
+  return true;
+}
+
 bool has_key(const std::vector<KeptImpulse>& kept, const ContactKey& key) {
   return std::binary_search(kept.begin(), kept.end(), KeptImpulse{key, Vec3::Zero()},
                             [](const KeptImpulse& x, const KeptImpulse& y) { return x.key < y.key; });
@@ -44,10 +56,10 @@ bool has_key(const std::vector<KeptImpulse>& kept, const ContactKey& key) {
 
 int main(int argc, char** argv) {
   if (argc < 4 || argc > 6) return usage("wrong number of arguments");
-  const int n = std::atoi(argv[1]);
-  const int steps = std::atoi(argv[3]);
+  int n = 0, steps = 0;
   const std::string mode = argc > 4 ? argv[4] : "impulse";
-  if (n <= 0 || steps <= 0) return usage("N and STEPS must be positive integers");
+  if (!parse_int(argv[1], n) || !parse_int(argv[3], steps) || n <= 0 || steps <= 0)
+    return usage("N and STEPS must be positive integers");
   if (mode != "impulse" && mode != "velocity" && mode != "fixed10") return usage("mode must be impulse, velocity or fixed10");
   StateFile file;
   try {
@@ -72,8 +84,9 @@ int main(int argc, char** argv) {
   };
   // RATCHET_TRACE_BODY=i: after every step, body i's velocities and its contacts.
   const char* watch_env = std::getenv("RATCHET_TRACE_BODY");
-  const int watch = watch_env != nullptr ? std::atoi(watch_env) : -1;
-  if (watch >= static_cast<int>(file.state.x.size())) return usage("RATCHET_TRACE_BODY is not a body of the bed");
+  int watch = -1;
+  if (watch_env != nullptr && (!parse_int(watch_env, watch) || watch < 0 || watch >= static_cast<int>(file.state.x.size())))
+    return usage("RATCHET_TRACE_BODY must be a body index of the bed (0 to N-1)");
   std::printf("step sweeps contacts active kept hits active_missed overlaps mean_overlap min_gap KE_over_peak\n");
   for (int k = 0; k < steps; ++k) {
     const std::vector<KeptImpulse> kept = world.state().impulses;

@@ -40,7 +40,7 @@ LocalSolution solve_local_coulomb(const Mat3& W, const Vec3& w, double mu) {
   return solve_local_coulomb(W, W.inverse(), w, mu);
 }
 
-LocalSolution solve_local_slide(const Mat3& W, const Vec3& w, double mu, const Vec3& stick, double lt) {
+LocalSolution detail::solve_local_slide(const Mat3& W, const Vec3& w, double mu, const Vec3& stick, double lt) {
   LocalSolution sol;
   sol.status = LocalStatus::Slide;
   // Slide: find the direction d with u_t(d) = -k d, k > 0. Fixed point

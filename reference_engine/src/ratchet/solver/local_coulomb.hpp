@@ -29,9 +29,11 @@ inline double solve_local_normal(double W_nn, double w_n) {
 // Full 3D Coulomb problem. mu = 0 reduces exactly to solve_local_normal.
 LocalSolution solve_local_coulomb(const Mat3& W, const Vec3& w, double mu);
 
-// The sliding branch: w[0] < 0, mu > 0, and the stick impulse (stick = -W^-1 w, lt its
-// tangential norm) lies outside the cone.
+namespace detail {
+// The sliding branch of solve_local_coulomb below, not an entry point: w[0] < 0, mu > 0,
+// and the stick impulse (stick = -W^-1 w, lt its tangential norm) lies outside the cone.
 LocalSolution solve_local_slide(const Mat3& W, const Vec3& w, double mu, const Vec3& stick, double lt);
+}  // namespace detail
 
 // The same with W^-1 given (the sweep computes it once per contact and step, not once
 // per local solve). Inline: the open and stick branches are 92 % of the local solves
@@ -54,7 +56,7 @@ inline LocalSolution solve_local_coulomb(const Mat3& W, const Mat3& W_inv, const
     sol.status = LocalStatus::Stick;
     return sol;
   }
-  return solve_local_slide(W, w, mu, stick, lt);
+  return detail::solve_local_slide(W, w, mu, stick, lt);
 }
 
 }  // namespace ratchet
