@@ -1,7 +1,7 @@
 // bed_trace: steps a cached step_bench bed and prints, per step, what sets the cost of a
 // warm-started step: Gauss-Seidel sweeps, contact points, active ones, how many found
 // their impulse of the last step (warm-start hits) and how many active ones did not,
-// the overlaps (count, mean depth, deepest) and KE / peak KE of the pour; at the end the
+// the overlaps (count, mean depth, deepest and its pair) and KE / peak KE of the pour; at the end the
 // bodies carrying the most kinetic energy with their contacts (a body rocking on two
 // contacts, or falling, keeps a bed from being static). docs/performance.md used it.
 //
@@ -87,12 +87,13 @@ int main(int argc, char** argv) {
   int watch = -1;
   if (watch_env != nullptr && (!parse_int(watch_env, watch) || watch < 0 || watch >= static_cast<int>(file.state.x.size())))
     return usage("RATCHET_TRACE_BODY must be a body index of the bed (0 to N-1)");
-  std::printf("step sweeps contacts active kept hits active_missed overlaps mean_overlap min_gap KE_over_peak\n");
+  std::printf("step sweeps contacts active kept hits active_missed overlaps mean_overlap min_gap KE_over_peak min_gap_a min_gap_b\n");
   for (int k = 0; k < steps; ++k) {
     const std::vector<KeptImpulse> kept = world.state().impulses;
     world.step();
     int active = 0, hits = 0, missed = 0, overlaps = 0;
     double depth = 0.0, min_gap = 0.0;
+    int min_a = -1, min_b = -1;  // the pair of the deepest overlap (b < 0: wall -1 - b)
     for (const SolverContact& c : world.contacts()) {
       const bool hit = has_key(kept, {c.a, c.b, c.geometry.feature_a, c.geometry.feature_b});
       hits += hit ? 1 : 0;
@@ -104,11 +105,15 @@ int main(int argc, char** argv) {
         ++overlaps;
         depth -= c.geometry.gap;
       }
-      min_gap = std::min(min_gap, c.geometry.gap);
+      if (c.geometry.gap < min_gap) {
+        min_gap = c.geometry.gap;
+        min_a = c.a;
+        min_b = c.b;
+      }
     }
-    std::printf("%d %d %zu %d %zu %d %d %d %.3e %.3e %.3e\n", k, world.stats().iterations, world.contacts().size(),
+    std::printf("%d %d %zu %d %zu %d %d %d %.3e %.3e %.3e %d %d\n", k, world.stats().iterations, world.contacts().size(),
                 active, kept.size(), hits, missed, overlaps, overlaps > 0 ? depth / overlaps : 0.0, min_gap,
-                peak > 0.0 ? world.kinetic_energy() / peak : 0.0);
+                peak > 0.0 ? world.kinetic_energy() / peak : 0.0, min_a, min_b);
     if (watch >= 0) {
       const State& st = world.state();
       const auto w = static_cast<std::size_t>(watch);

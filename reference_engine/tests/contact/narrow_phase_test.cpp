@@ -2,7 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <vector>
 
 #include "ratchet/core/random.hpp"
 #include "ratchet/geometry/convex_polyhedron.hpp"
@@ -67,6 +69,56 @@ TEST(NarrowPhase, TiltedBoxTouchesWithOneCorner) {
   ASSERT_TRUE(collide_polyhedron_plane(box.view, Vec3::UnitZ(), Vec3::Zero(), lowest + 0.01, m));
   ASSERT_EQ(m.count, 1);
   EXPECT_DOUBLE_EQ(m.points[0].gap, lowest);
+}
+
+// A body resting on an edge (two vertices 2e-6 into the plane) with four more vertices
+// within the margin, 0.01-0.04 above it and far apart: the reduction to 4 points must
+// keep both touching vertices and fill with the nearest of the others. Reducing all six
+// by area kept three of the far ones and dropped a penetrating vertex (the floor
+// contact of a settled bed then flipped between its two edge vertices every step).
+TEST(NarrowPhase, PlaneReductionKeepsEveryTouchingVertex) {
+  const std::vector<Vec3> pts{{-0.1, 0.0, -2e-6}, {0.1, 0.0, -2e-6}, {1.0, 1.0, 0.04}, {-1.0, 1.0, 0.03},
+                              {-1.0, -1.0, 0.02}, {1.0, -1.0, 0.01}, {0.0, 0.0, 1.0}};
+  PolyhedronBuild b = build_convex_polyhedron(pts);
+  const Vec3 c = b.centroid;
+  const Quat q(b.rotation);
+  Posed body(std::move(b), c, q, 1.0);
+  ASSERT_EQ(body.world.size(), pts.size());  // every point is a hull vertex, in input order
+  ContactManifold m;
+  ASSERT_TRUE(collide_polyhedron_plane(body.view, Vec3::UnitZ(), Vec3::Zero(), 0.05, m));
+  ASSERT_EQ(m.count, 4);
+  std::vector<std::int32_t> kept;
+  for (int i = 0; i < m.count; ++i) kept.push_back(m.points[i].feature_a);
+  std::sort(kept.begin(), kept.end());
+  const std::vector<std::int32_t> expected{feature_id(FeatureKind::Vertex, 0), feature_id(FeatureKind::Vertex, 1),
+                                          feature_id(FeatureKind::Vertex, 4), feature_id(FeatureKind::Vertex, 5)};
+  EXPECT_EQ(kept, expected);
+}
+
+// Six vertices of a hexagonal prism lie on the plane: all touch, so the area reduction
+// picks 4 of them spanning the face (the largest inscribed quadrilateral's corners lie
+// on the hexagon), and no vertex of the top face is taken.
+TEST(NarrowPhase, PlaneReductionOfAFlatFaceSpansIt) {
+  std::vector<Vec3> pts;
+  for (int k = 0; k < 6; ++k) {
+    const double t = k * M_PI / 3.0;
+    pts.emplace_back(std::cos(t), std::sin(t), 0.0);
+    pts.emplace_back(std::cos(t), std::sin(t), 0.02);  // within the margin, not touching
+  }
+  PolyhedronBuild b = build_convex_polyhedron(pts);
+  const Vec3 c = b.centroid;
+  const Quat q(b.rotation);
+  Posed body(std::move(b), c, q, 1.0);
+  ContactManifold m;
+  ASSERT_TRUE(collide_polyhedron_plane(body.view, Vec3::UnitZ(), Vec3::Zero(), 0.05, m));
+  ASSERT_EQ(m.count, 4);
+  double xmin = 1, xmax = -1;
+  for (int i = 0; i < m.count; ++i) {
+    EXPECT_NEAR(m.points[i].gap, 0.0, 1e-12);
+    xmin = std::min(xmin, m.points[i].point.x());
+    xmax = std::max(xmax, m.points[i].point.x());
+  }
+  EXPECT_GT(xmax - xmin, 1.0);  // spans the hexagon (width 2), not one side of it
 }
 
 // Sphere against a polyhedron: the gap must equal the distance to a dense sampling of

@@ -17,8 +17,9 @@ bool collide_sphere_sphere(const Vec3& ca, double ra, const Vec3& cb, double rb,
 bool collide_sphere_plane(const Vec3& c, double r, const Vec3& n, const Vec3& p, double margin,
                           ContactManifold& out);
 
-// Every vertex closer than margin is a candidate; a face lying on the plane is reduced
-// to 4 corner points (manifold_reduction.hpp).
+// Every vertex closer than margin is a candidate. More than 4 are reduced to 4: the
+// vertices touching the plane (within 1e-3 r of the lowest) first, a face lying on the
+// plane to 4 corner points (manifold_reduction.hpp), then the nearest of the others.
 bool collide_polyhedron_plane(const PolyhedronView& a, const Vec3& n, const Vec3& p, double margin,
                               ContactManifold& out);
 
