@@ -232,6 +232,52 @@ TEST(ConvexPolyhedron, RandomHullsAreClosedOutwardSurfaces) {
   }
 }
 
+// The certificate's data (common_plane.cpp): every face's own vertices lie on or inside
+// its sides, its centroid strictly inside; a point pushed out across side k is outside
+// that side by the push; edge directions are unit and along their edges.
+TEST(ConvexPolyhedron, FaceSidesAndEdgeDirections) {
+  Rng rng(13);
+  std::vector<PolyhedronBuild> shapes{build_box(Vec3(0.5, 0.4, 0.3))};
+  for (int trial = 0; trial < 20; ++trial) shapes.push_back(build_convex_polyhedron(random_cloud(rng, 8 + 3 * trial)));
+  for (const PolyhedronBuild& b : shapes) {
+    const ConvexPolyhedron& s = b.shape;
+    ASSERT_EQ(s.face_side_start.size(), s.faces.size() + 1);
+    ASSERT_EQ(s.edge_directions.size(), s.edges.size());
+    for (std::size_t f = 0; f < s.faces.size(); ++f) {
+      const auto& face = s.faces[f];
+      ASSERT_EQ(s.face_side_start[f + 1] - s.face_side_start[f], static_cast<int>(face.size()));
+      Vec3 c = Vec3::Zero();
+      for (int v : face) c += s.vertices[static_cast<std::size_t>(v)];
+      c /= static_cast<double>(face.size());
+      for (int k = s.face_side_start[f]; k < s.face_side_start[f + 1]; ++k) {
+        const Vec3& out = s.face_side_normals[static_cast<std::size_t>(k)];
+        const double off = s.face_side_offsets[static_cast<std::size_t>(k)];
+        EXPECT_NEAR(out.norm(), 1.0, kExact);
+        EXPECT_NEAR(out.dot(s.face_normals[f]), 0.0, 1e-9);  // in the face's plane (merged faces: roundoff)
+        for (int v : face) EXPECT_LE(out.dot(s.vertices[static_cast<std::size_t>(v)]), off + kExact);
+        const double inside = off - out.dot(c);
+        EXPECT_GT(inside, 0.0);
+        EXPECT_NEAR(off - out.dot(c + (inside + 0.1) * out), -0.1, kExact);
+      }
+    }
+    for (std::size_t e = 0; e < s.edges.size(); ++e) {
+      const Vec3 d = s.vertices[static_cast<std::size_t>(s.edges[e][1])] - s.vertices[static_cast<std::size_t>(s.edges[e][0])];
+      EXPECT_NEAR(s.edge_directions[e].norm(), 1.0, kExact);
+      EXPECT_NEAR(s.edge_directions[e].dot(d), d.norm(), kExact);
+    }
+  }
+  // The box: its top face (normal +z) has sides at x = +-0.5 and y = +-0.4.
+  const ConvexPolyhedron& box = shapes.front().shape;
+  for (std::size_t f = 0; f < box.faces.size(); ++f) {
+    if (box.face_normals[f].z() < 0.5) continue;
+    std::vector<double> offsets(box.face_side_offsets.begin() + box.face_side_start[f],
+                                box.face_side_offsets.begin() + box.face_side_start[f + 1]);
+    std::sort(offsets.begin(), offsets.end());
+    EXPECT_NEAR(offsets[0], 0.4, kExact);
+    EXPECT_NEAR(offsets[3], 0.5, kExact);
+  }
+}
+
 TEST(ConvexPolyhedron, BodyFrameOfRotatedTranslatedInput) {
   Rng rng(11);
   const Mat3 q = uniform_rotation(rng).toRotationMatrix();

@@ -43,6 +43,26 @@ enum class PlaneFeature : std::int8_t {
   Axis       // any other direction (n itself)
 };
 
+// A proof, made at the step that last searched, that the cached facet of D is still the
+// best one at a later pose (common_plane.cpp, "Certificate"): the pose it was made at
+// (B in A's frame), what the search bounded there, and the features that may span a
+// facet next to it. It never changes a result: a certified step returns what the
+// search would return, bit for bit; it only saves the search. Not written to state
+// files: a restart without it searches once and makes a new one.
+struct PlaneCertificate {
+  static constexpr int kFaces = 4;   // per body, at most
+  static constexpr int kEdges = 12;  // per body, at most
+  bool valid = false;
+  std::int8_t faces_a = 0, faces_b = 0, edges_a = 0, edges_b = 0;  // counts of the lists below
+  Mat3 rotation = Mat3::Zero();   // R_A^T R_B
+  Vec3 offset = Vec3::Zero();     // R_A^T (c_B - c_A)
+  double scale_a = 1.0, scale_b = 1.0;
+  Vec3 normal_a = Vec3::Zero();   // outward normal of the facet of D = A - B, A's frame
+  double far_bound = 0.0;         // s of every facet far from that normal was below this
+  std::array<std::int16_t, kFaces> face_a{}, face_b{};  // faces near the facet normal
+  std::array<std::int16_t, kEdges> edge_a{}, edge_b{};  // edges nearly orthogonal to it
+};
+
 struct CommonPlaneCache {
   Vec3 normal = Vec3::Zero();  // last plane normal, from B towards A
   bool valid = false;
@@ -51,6 +71,7 @@ struct CommonPlaneCache {
   int index_b = -1;
   int simplex_count = 0;                           // GJK simplex size (1..3 when apart)
   std::array<std::array<int, 2>, 4> simplex{};     // (vertex of A, vertex of B) pairs
+  PlaneCertificate certificate;                    // for a facet of overlapping bodies
 };
 
 struct CommonPlaneResult {
@@ -62,6 +83,7 @@ struct CommonPlaneResult {
   int gjk_iterations = 0;       // support mappings of GJK
   int sat_axes = 0;             // candidate axes evaluated (face and edge-pair axes, start axis)
   int sat_edge_pairs = 0;       // edge pairs put through the Gauss-map test
+  bool certified = false;       // the cached facet's certificate held: no search ran
   // One number for "how much search": what warm starting is meant to reduce.
   int iterations() const { return gjk_iterations + sat_axes; }
 };

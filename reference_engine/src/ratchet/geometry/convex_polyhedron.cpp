@@ -256,6 +256,27 @@ void finish_shape(ConvexPolyhedron& s, const std::string& what) {
   for (std::size_t f = 0; f < s.faces.size(); ++f)
     for (int v : s.faces[f]) s.vertex_face_list[static_cast<std::size_t>(fill[static_cast<std::size_t>(v)]++)] = static_cast<int>(f);
 
+  // Face sides: (edge direction) x (outward normal) points out of a counter-clockwise
+  // face; the offset is the larger over the side's two ends (a merged face is planar
+  // only to roundoff, as for the face offsets above).
+  s.face_side_start.assign(1, 0);
+  s.face_side_normals.clear();
+  s.face_side_offsets.clear();
+  for (std::size_t f = 0; f < s.faces.size(); ++f) {
+    const auto& face = s.faces[f];
+    for (std::size_t i = 0; i < face.size(); ++i) {
+      const Vec3& a = s.vertices[static_cast<std::size_t>(face[i])];
+      const Vec3& b = s.vertices[static_cast<std::size_t>(face[(i + 1) % face.size()])];
+      const Vec3 out = (b - a).cross(s.face_normals[f]).normalized();
+      s.face_side_normals.push_back(out);
+      s.face_side_offsets.push_back(std::max(out.dot(a), out.dot(b)));
+    }
+    s.face_side_start.push_back(static_cast<int>(s.face_side_normals.size()));
+  }
+  s.edge_directions.clear();
+  for (const auto& e : s.edges)
+    s.edge_directions.push_back((s.vertices[static_cast<std::size_t>(e[1])] - s.vertices[static_cast<std::size_t>(e[0])]).normalized());
+
   s.bounding_radius = 0.0;
   for (const Vec3& v : s.vertices) s.bounding_radius = std::max(s.bounding_radius, v.norm());
   s.min_face_offset = *std::min_element(s.face_offsets.begin(), s.face_offsets.end());

@@ -24,6 +24,17 @@ struct ConvexPolyhedron {
   // reads it for every contact pair, and one indirection less saves cache misses.
   std::vector<int> vertex_face_start;
   std::vector<int> vertex_face_list;
+  // Read by the common-plane certificate (contact/common_plane.cpp), which proves that a
+  // contact facet stays the best one without a new search:
+  //  * the sides of face f, one per vertex of faces[f] (side i runs from faces[f][i] to
+  //    faces[f][i + 1]): in-plane outward unit normal and offset, so that a point x of
+  //    the face's plane lies inside the face iff face_side_offsets[k] - face_side_normals[k] . x
+  //    >= 0 for k = face_side_start[f] .. face_side_start[f + 1] - 1;
+  //  * edge_directions[e]: unit vector from edges[e][0] to edges[e][1].
+  std::vector<int> face_side_start;
+  std::vector<Vec3> face_side_normals;
+  std::vector<double> face_side_offsets;
+  std::vector<Vec3> edge_directions;
   double volume = 0.0;                    // at scale 1
   Vec3 principal_inertia = Vec3::Zero();  // per unit density at scale 1: I = diag(principal_inertia);
                                           // ascending, except build_box (x, y, z order)

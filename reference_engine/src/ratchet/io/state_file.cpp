@@ -12,9 +12,11 @@ namespace ratchet {
 // The layout below writes these structs field by field. If one of them changes (a new
 // field in the state or the plane cache), the file would silently drop it and a restart
 // would no longer be exact: update the format (and kStateFileVersion) first.
-static_assert(sizeof(CommonPlaneCache) == 72, "CommonPlaneCache changed: update io/state_file.cpp");
+// The plane certificate is not written: it only lets a step skip a search whose result
+// it proves (common_plane.hpp), so a restart without it gives the same results.
+static_assert(sizeof(CommonPlaneCache) - sizeof(PlaneCertificate) == 72, "CommonPlaneCache changed: update io/state_file.cpp");
 static_assert(sizeof(KeptImpulse) == 40, "KeptImpulse changed: update io/state_file.cpp");
-static_assert(sizeof(KeptPlane) == 80, "KeptPlane changed: update io/state_file.cpp");
+static_assert(sizeof(KeptPlane) - sizeof(PlaneCertificate) == 80, "KeptPlane changed: update io/state_file.cpp");
 static_assert(sizeof(State) == 8 + 4 * 8 + 6 * sizeof(std::vector<Vec3>), "State changed: update io/state_file.cpp");
 
 namespace {
