@@ -65,4 +65,21 @@ void reduce_manifold(const std::vector<ContactPoint>& candidates, ContactManifol
   if (i3 >= 0 && i3 != i0 && i3 != i1 && i3 != i2) out.add(candidates[i3]);
 }
 
+void reduce_touching_first(std::vector<ContactPoint>& candidates, double touch, ContactManifold& out) {
+  out.count = 0;
+  if (candidates.size() <= 4) {
+    for (const ContactPoint& c : candidates) out.add(c);
+    return;
+  }
+  const auto near = std::stable_partition(candidates.begin(), candidates.end(),
+                                          [&](const ContactPoint& c) { return c.gap <= touch; });
+  if (near - candidates.begin() > 4) {
+    candidates.erase(near, candidates.end());
+    reduce_manifold(candidates, out);
+    return;
+  }
+  std::stable_sort(near, candidates.end(), [](const ContactPoint& x, const ContactPoint& y) { return x.gap < y.gap; });
+  for (std::size_t k = 0; k < 4; ++k) out.add(candidates[k]);
+}
+
 }  // namespace ratchet

@@ -14,4 +14,11 @@ namespace ratchet {
 // index, so the result depends only on the order of the candidates.
 void reduce_manifold(const std::vector<ContactPoint>& candidates, ContactManifold& out);
 
+// Up to 4 of `candidates` keeping the support: the points with gap <= touch (those in
+// contact) are reduced among themselves as above, and the others (about to close) fill
+// the places left, nearest first (stable: ties keep the candidates' order). Reducing all
+// together could keep a point well clear of the other body and drop one pressed into
+// it. Reorders `candidates`.
+void reduce_touching_first(std::vector<ContactPoint>& candidates, double touch, ContactManifold& out);
+
 }  // namespace ratchet

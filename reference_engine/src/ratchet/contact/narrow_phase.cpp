@@ -69,29 +69,13 @@ bool collide_polyhedron_plane(const PolyhedronView& a, const Vec3& n, const Vec3
     c.feature_b = 0;
     candidates.push_back(c);
   }
-  if (candidates.size() <= 4) {
-    for (const ContactPoint& c : candidates) out.add(c);
-    return out.count > 0;
-  }
-  // More than 4: the support polygon is made of the touching vertices, so they are
-  // reduced among themselves, and the vertices that are only about to close fill the
-  // places left, nearest first. Reducing all together could keep a vertex 0.05 above the
-  // plane and drop one that penetrates it: a body resting on an edge of two floor
-  // vertices then lost one of them every other step and rocked (a settled bed of 2000,
-  // docs/performance.md).
+  // The support polygon is made of the touching vertices: a body resting on an edge
+  // lost one of its two floor vertices every other step and rocked when all candidates
+  // were reduced together (a settled bed of 2000, docs/performance.md).
   double g_min = std::numeric_limits<double>::infinity();
   for (const ContactPoint& c : candidates) g_min = std::min(g_min, c.gap);
-  const double touch = g_min + kPlaneBand * a.scale * a.shape->bounding_radius;
-  const auto near = std::stable_partition(candidates.begin(), candidates.end(),
-                                          [&](const ContactPoint& c) { return c.gap <= touch; });
-  if (near - candidates.begin() > 4) {
-    candidates.erase(near, candidates.end());
-    reduce_manifold(candidates, out);
-    return true;
-  }
-  std::stable_sort(near, candidates.end(), [](const ContactPoint& x, const ContactPoint& y) { return x.gap < y.gap; });
-  for (std::size_t k = 0; k < 4; ++k) out.add(candidates[k]);
-  return true;
+  reduce_touching_first(candidates, g_min + kPlaneBand * a.scale * a.shape->bounding_radius, out);
+  return out.count > 0;
 }
 
 Vec3 closest_point_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
