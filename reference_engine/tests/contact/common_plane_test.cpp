@@ -512,8 +512,9 @@ TEST(CommonPlane, CertifiedStepsMatchTheSearchBitForBit) {
   EXPECT_GT(certified, facet_starts / 3);
 }
 
-// A pair that turns by more than the certificate allows (0.01 rad) is searched again,
-// and a pair that moves by 1e-6 is not.
+// A certificate is made once a pair keeps its facet from one search to the next; a pair
+// that then moves by 1e-6 is not searched again, one that turns by more than the
+// certificate allows (0.01 rad) is.
 TEST(CommonPlane, CertificateHoldsForSmallMotionOnly) {
   const PolyhedronBuild box = build_box(Vec3(0.5, 0.5, 0.5));
   Posed A(box.shape), B(box.shape);
@@ -528,7 +529,11 @@ TEST(CommonPlane, CertificateHoldsForSmallMotionOnly) {
   const CommonPlaneResult first = find_common_plane(A.view(), B.view(), cache);
   ASSERT_EQ(first.feature, PlaneFeature::FaceB);
   EXPECT_FALSE(first.certified);
-  ASSERT_TRUE(cache.certificate.valid);
+  EXPECT_FALSE(cache.certificate.valid);  // a cold search makes none (the facet is new)
+  A.translate(Vec3(1e-6, 0.0, 0.0));
+  const CommonPlaneResult second = find_common_plane(A.view(), B.view(), cache);
+  EXPECT_FALSE(second.certified);
+  ASSERT_TRUE(cache.certificate.valid);   // the facet was kept: now it gets one
   A.translate(Vec3(1e-6, 0.0, 0.0));
   EXPECT_TRUE(find_common_plane(A.view(), B.view(), cache).certified);
   A.place(A.center(), (Eigen::AngleAxisd(0.02, Vec3::UnitZ()) * Quat(A.R())).toRotationMatrix());

@@ -1077,6 +1077,7 @@ CommonPlaneResult solve(const PolyhedronView& a, const PolyhedronView& b, Common
       r.certified = true;
       return finish(best);
     }
+    const Candidate start = best;
     Candidate best_face;
     if (best.kind == PlaneFeature::FaceA || best.kind == PlaneFeature::FaceB) best_face = best;
     sat_search(a, b, best, best_face, cutoff, r);
@@ -1093,7 +1094,10 @@ CommonPlaneResult solve(const PolyhedronView& a, const PolyhedronView& b, Common
         best = best_face;
       store(cache, best);
       const CommonPlaneResult out = finish(best);
-      make_certificate(a, b, best, out.gap, cache.certificate);
+      // A certificate costs a second pass over the SAT's bounds: made only for a pair
+      // that kept its facet from the last step, the kind that keeps it for many more.
+      if (facet_start && best.kind == start.kind && best.index_a == start.index_a && best.index_b == start.index_b)
+        make_certificate(a, b, best, out.gap, cache.certificate);
       return out;
     }
     // A facet separates them: the distance needs GJK, seeded at that facet's support pair.
