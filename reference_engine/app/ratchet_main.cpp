@@ -22,6 +22,7 @@
 #include <filesystem>
 #include <thread>
 
+#include "cli_main.hpp"
 #include "ratchet/io/run_output.hpp"
 #include "ratchet/io/state_file.hpp"
 #include "ratchet/run/packing.hpp"
@@ -145,7 +146,7 @@ int sweep(const std::vector<std::string>& args) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
+int ratchet_cli_main(int argc, char** argv) {
   std::vector<std::string> args(argv + 1, argv + argc);
   if (args.empty() || args[0] == "help" || args[0] == "--help" || args[0] == "-h") {
     std::cout << kUsage;

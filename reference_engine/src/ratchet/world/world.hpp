@@ -9,7 +9,9 @@
 #include <string>
 #include <vector>
 
+#include "ratchet/contact/collide.hpp"
 #include "ratchet/scene/scene.hpp"
+#include "ratchet/solver/nsgs.hpp"
 #include "ratchet/world/phases.hpp"
 #include "ratchet/world/scratch.hpp"
 #include "ratchet/world/state.hpp"
@@ -75,15 +77,20 @@ class World {
   void keep_impulses();
   void observe();
 
+  // detect (world/detect.cpp)
   void prepare_bodies();
-  void build_solver_contacts();
-  void warm_start();
-  void gauss_seidel();
-  double velocity_change(const std::vector<Vec3>& v0, const std::vector<Vec3>& w0) const;
-  void apply_local_impulse(const SolverRow& r, const Vec3& d);
-  Vec3 local_velocity(const SolverRow& r) const;
+  CollisionBody collision_body(int i) const;
+  void load_pair_planes();
+  void store_pair_planes();
+  void find_wall_pairs(const std::vector<Vec3>& wall_points);
+  void gather_contacts();
+  // solve (world/contact_rows.cpp; the global solve is solver/nsgs.hpp)
+  void build_rows();
+  void warm_start(SolverBodies& bodies);
 
   SceneDef scene_;
+  std::vector<double> body_mass_;    // per body, 0 for fixed bodies (the velocity norm skips them)
+  std::vector<Vec3> body_inertia_;   // principal inertia at scale 1
   State state_;
   StepScratch scratch_;
   StepStats stats_;

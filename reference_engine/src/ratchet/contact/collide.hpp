@@ -1,0 +1,34 @@
+// Collision dispatch: one table from (shape kind, shape kind) to the narrow-phase
+// function of that pair type, and one from shape kind to the body-against-wall
+// function (as Box2D's s_registers and MuJoCo's mjCOLLISIONFUNC). The step calls only
+// collide_pair and collide_wall; adding a contact type means a new function and a
+// table entry here, nothing in the step.
+#pragma once
+
+#include "ratchet/contact/common_plane.hpp"
+#include "ratchet/contact/contact_point.hpp"
+#include "ratchet/contact/polyhedron_view.hpp"
+#include "ratchet/scene/scene.hpp"
+
+namespace ratchet {
+
+// One body placed for this step, as the narrow phase sees it.
+struct CollisionBody {
+  ShapeKind kind = ShapeKind::Sphere;
+  Vec3 center = Vec3::Zero();
+  double radius = 0.0;   // sphere radius at the current scale (spheres only)
+  PolyhedronView poly;   // placed shape (polyhedra only)
+};
+
+// Number of world vertices the body's shape places each step (0 for a sphere).
+int placed_vertex_count(const SceneDef& scene, const BodyDef& body);
+
+// Body pair A, B (the pair's order: normal from B to A). `cache` is the common plane
+// kept for the pair; only polyhedron pairs read and write it.
+void collide_pair(const CollisionBody& a, const CollisionBody& b, double margin, CommonPlaneCache& cache,
+                  ContactManifold& out);
+
+// Body against the wall plane {x : n . (x - p) = 0}.
+void collide_wall(const CollisionBody& a, const Vec3& n, const Vec3& p, double margin, ContactManifold& out);
+
+}  // namespace ratchet

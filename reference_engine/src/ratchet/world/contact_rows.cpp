@@ -1,0 +1,128 @@
+// Phase 4, first half: from the step's contact list to the solver's rows (local
+// frames, Delassus blocks, expansion velocities, gap biases) and their warm start.
+// docs/method.md s. 3-4.
+#include <algorithm>
+#include <cmath>
+
+#include "ratchet/world/test_hooks.hpp"
+#include "ratchet/world/world.hpp"
+
+namespace ratchet {
+
+namespace {
+
+// Skew-symmetric cross-product matrix [r]x.
+Mat3 skew(const Vec3& r) {
+  Mat3 m;
+  m << 0.0, -r.z(), r.y(), r.z(), 0.0, -r.x(), -r.y(), r.x(), 0.0;
+  return m;
+}
+
+// Tangent frame (t1, t2) of a unit normal n, deterministic: cross with the first axis
+// least aligned with n.
+void tangent_frame(const Vec3& n, Vec3& t1, Vec3& t2) {
+  const Vec3 axis = std::abs(n.x()) < 0.57735 ? Vec3::UnitX() : (std::abs(n.y()) < 0.57735 ? Vec3::UnitY() : Vec3::UnitZ());
+  t1 = n.cross(axis).normalized();
+  t2 = n.cross(t1);
+}
+
+}  // namespace
+
+// Local frames, Delassus blocks W = H^T M^-1 H (Jean 1999, eq. 40), expansion
+// velocities and the gap bias of every contact.
+void World::build_rows() {
+  StepScratch& s = scratch_;
+  const double h = scene_.dt;
+  const double p_gap = scene_.solver.p_gap;
+  const Vec3& c0 = scene_.container.scale_center;
+  // The wall's expansion rate in the contact velocity; the planted-regression seam can
+  // drop it (world/test_hooks.hpp).
+  const double eps_wall = test_hooks().drop_wall_expansion ? 0.0 : scratch_.eps_c;
+  s.rows.resize(s.contacts.size());
+  for (std::size_t k = 0; k < s.contacts.size(); ++k) {
+    SolverContact& c = s.contacts[k];
+    SolverRow& r = s.rows[k];
+    r.a = c.a;
+    r.b = c.b;
+    r.mu = c.mu;
+    const Vec3& n = c.geometry.normal;
+    const Vec3& p = c.geometry.point;
+    c.ra = p - state_.x[c.a];
+    Mat3 K = s.inv_mass[c.a] * Mat3::Identity() - skew(c.ra) * s.inv_inertia[c.a] * skew(c.ra);
+    // A material point at lever r from a particle centre moves with eps_p r; a wall
+    // point x with eps_c (x - c0) (docs/method.md s. 2). Fixed bodies keep scale 1, so
+    // they have no expansion velocity.
+    auto eps_of = [&](int body) { return scene_.bodies[static_cast<std::size_t>(body)].fixed ? 0.0 : scratch_.eps_p; };
+    c.u_expansion = eps_of(c.a) * c.ra;
+    if (!is_wall(c.b)) {
+      c.rb = p - state_.x[c.b];
+      K += s.inv_mass[c.b] * Mat3::Identity() - skew(c.rb) * s.inv_inertia[c.b] * skew(c.rb);
+      c.u_expansion -= eps_of(c.b) * c.rb;
+    } else if (scene_.container.walls[static_cast<std::size_t>(wall_index(c.b))].expands) {
+      c.u_expansion -= eps_wall * (p - c0);
+    }
+    // Columns computed one by one with the same expressions in the frictionless and
+    // the frictional case, so that mu = 0 reproduces friction-off bit for bit.
+    const Vec3 Kn = K * n;
+    r.W.setZero();
+    r.W(0, 0) = n.dot(Kn);
+    if (friction_on_) {
+      tangent_frame(n, c.t1, c.t2);
+      const Vec3 Kt1 = K * c.t1, Kt2 = K * c.t2;
+      r.W(1, 0) = c.t1.dot(Kn); r.W(2, 0) = c.t2.dot(Kn);
+      r.W(0, 1) = n.dot(Kt1);   r.W(1, 1) = c.t1.dot(Kt1); r.W(2, 1) = c.t2.dot(Kt1);
+      r.W(0, 2) = n.dot(Kt2);   r.W(1, 2) = c.t1.dot(Kt2); r.W(2, 2) = c.t2.dot(Kt2);
+    }
+    r.F.col(0) = n;
+    r.F.col(1) = c.t1;
+    r.F.col(2) = c.t2;
+    r.Ja.setZero();
+    r.Jb.setZero();
+    if (rotation_on_) {
+      for (int j = 0; j < 3; ++j) {
+        r.Ja.row(j) = c.ra.cross(r.F.col(j)).transpose();
+        if (!is_wall(c.b)) r.Jb.row(j) = c.rb.cross(r.F.col(j)).transpose();
+      }
+    }
+    r.W_inv.setZero();
+    if (friction_on_) r.W_inv = r.W.inverse();
+    r.u0 = r.F.transpose() * c.u_expansion;
+    // Gap relaxation (docs/method.md s. 3): an overlap closes at p_gap g / h per step.
+    const double g = c.geometry.gap;
+    const double g_eff = g >= 0.0 ? g : p_gap * g;
+    // Velocity-level Signorini: u_n(t+h) >= -g_eff / h. Theta enters the position update
+    // only; a gap-based bias with theta < 1 would turn an inelastic landing into a rebound.
+    r.bias = g_eff / h;
+    r.lambda.setZero();
+    c.lambda.setZero();
+  }
+}
+
+// Impulses of the previous step for the same (bodies, features), projected onto the
+// new frame, clipped to the friction cone and applied before the first sweep.
+void World::warm_start(SolverBodies& bodies) {
+  if (!scene_.solver.warm_start || state_.impulses.empty()) return;
+  StepScratch& s = scratch_;
+  for (std::size_t k = 0; k < s.contacts.size(); ++k) {
+    const SolverContact& c = s.contacts[k];
+    const ContactKey key{c.a, c.b, c.geometry.feature_a, c.geometry.feature_b};
+    auto it = std::lower_bound(state_.impulses.begin(), state_.impulses.end(), key,
+                               [](const KeptImpulse& x, const ContactKey& y) { return x.key < y; });
+    if (it == state_.impulses.end() || !(it->key == key)) continue;
+    const Vec3& P = it->impulse;
+    const double ln = std::max(0.0, c.geometry.normal.dot(P));
+    Vec3 lambda(ln, 0.0, 0.0);
+    if (friction_on_) {
+      double l1 = c.t1.dot(P), l2 = c.t2.dot(P);
+      const double lt = std::hypot(l1, l2), cap = c.mu * ln;
+      if (lt > cap) { l1 *= cap / lt; l2 *= cap / lt; }
+      if (cap == 0.0) { l1 = 0.0; l2 = 0.0; }
+      lambda[1] = l1;
+      lambda[2] = l2;
+    }
+    s.rows[k].lambda = lambda;
+    apply_local_impulse(s.rows[k], lambda, bodies, rotation_on_);
+  }
+}
+
+}  // namespace ratchet

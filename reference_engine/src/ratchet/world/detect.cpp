@@ -1,0 +1,178 @@
+// Phase 3 of the step, contact detection: bodies placed at the current pose and scale,
+// candidate pairs from the grid, the narrow phase through the collision table
+// (contact/collide.hpp), gathered into the step's contact list in a fixed order.
+#include <algorithm>
+
+#include "ratchet/contact/collide.hpp"
+#include "ratchet/world/world.hpp"
+
+namespace ratchet {
+
+namespace {
+
+// Below this many bodies or pairs a parallel region costs more than it saves.
+constexpr int kParallelMin = 256;
+
+}  // namespace
+
+void World::prepare_bodies() {
+  const std::size_t n = scene_.bodies.size();
+  StepScratch& s = scratch_;
+  s.R.resize(n);
+  s.inv_inertia.resize(n);
+  s.inv_mass.resize(n);
+  s.scale.resize(n);
+  s.vertex_offset.resize(n);
+  s.centers.resize(n);
+  s.radii.resize(n);
+  int total = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const int count = placed_vertex_count(scene_, scene_.bodies[i]);
+    s.vertex_offset[i] = count > 0 ? total : -1;
+    total += count;
+  }
+  s.world_vertices.resize(static_cast<std::size_t>(total));
+#pragma omp parallel for schedule(static) if (n > static_cast<std::size_t>(kParallelMin))
+  for (std::size_t i = 0; i < n; ++i) {
+    const BodyDef& b = scene_.bodies[i];
+    const double sc = body_scale(static_cast<int>(i));
+    s.scale[i] = sc;
+    s.R[i] = state_.q[i].toRotationMatrix();
+    s.inv_mass[i] = b.fixed ? 0.0 : 1.0 / b.mass;
+    if (b.fixed || !rotation_on_) {
+      s.inv_inertia[i].setZero();
+    } else {
+      // Inertia scales with s^2 at constant mass.
+      const Vec3 inv_I = (b.principal_inertia * (sc * sc)).cwiseInverse();
+      s.inv_inertia[i] = s.R[i] * inv_I.asDiagonal() * s.R[i].transpose();
+    }
+    s.centers[i] = state_.x[i];
+    s.radii[i] = b.bounding_radius * sc;
+    if (s.vertex_offset[i] >= 0) {
+      const auto& verts = scene_.shapes[static_cast<std::size_t>(b.shape)].vertices;
+      Vec3* out = &s.world_vertices[static_cast<std::size_t>(s.vertex_offset[i])];
+      for (std::size_t k = 0; k < verts.size(); ++k) out[k] = state_.x[i] + sc * (s.R[i] * verts[k]);
+    }
+  }
+}
+
+CollisionBody World::collision_body(int i) const {
+  const StepScratch& s = scratch_;
+  const BodyDef& b = scene_.bodies[static_cast<std::size_t>(i)];
+  CollisionBody c;
+  c.kind = b.kind;
+  c.center = state_.x[static_cast<std::size_t>(i)];
+  c.radius = b.radius * body_scale(i);
+  const int offset = s.vertex_offset[static_cast<std::size_t>(i)];
+  if (offset >= 0) {
+    c.poly.shape = &scene_.shapes[static_cast<std::size_t>(b.shape)];
+    c.poly.world_vertices = &s.world_vertices[static_cast<std::size_t>(offset)];
+    c.poly.center = c.center;
+    c.poly.R = s.R[static_cast<std::size_t>(i)];
+    c.poly.scale = body_scale(i);
+  }
+  return c;
+}
+
+// Common planes of the last step, looked up by pair (both lists are sorted).
+void World::load_pair_planes() {
+  StepScratch& s = scratch_;
+  s.pair_planes.assign(s.pairs.size(), CommonPlaneCache{});
+  std::size_t j = 0;
+  for (std::size_t k = 0; k < s.pairs.size(); ++k) {
+    while (j < state_.planes.size() && std::make_pair(state_.planes[j].a, state_.planes[j].b) < s.pairs[k]) ++j;
+    if (j < state_.planes.size() && std::make_pair(state_.planes[j].a, state_.planes[j].b) == s.pairs[k])
+      s.pair_planes[k] = state_.planes[j].cache;
+  }
+}
+
+// Keep the planes of the polyhedron pairs for the next step.
+void World::store_pair_planes() {
+  const StepScratch& s = scratch_;
+  state_.planes.clear();
+  for (std::size_t k = 0; k < s.pairs.size(); ++k)
+    if (s.pair_planes[k].valid) state_.planes.push_back({s.pairs[k].first, s.pairs[k].second, s.pair_planes[k]});
+}
+
+// (body, wall) candidates whose bounding sphere reaches within the margin of the wall
+// plane, body-major.
+void World::find_wall_pairs(const std::vector<Vec3>& wall_points) {
+  StepScratch& s = scratch_;
+  const double margin = scene_.solver.contact_margin;
+  const int n = static_cast<int>(scene_.bodies.size());
+  const int nw = static_cast<int>(scene_.container.walls.size());
+  s.wall_pairs.clear();
+  for (int i = 0; i < n; ++i) {
+    if (scene_.bodies[static_cast<std::size_t>(i)].fixed) continue;
+    for (int w = 0; w < nw; ++w) {
+      const WallDef& wall = scene_.container.walls[static_cast<std::size_t>(w)];
+      if (wall.normal.dot(s.centers[static_cast<std::size_t>(i)] - wall_points[static_cast<std::size_t>(w)]) -
+              s.radii[static_cast<std::size_t>(i)] <= margin)
+        s.wall_pairs.emplace_back(i, w);
+    }
+  }
+}
+
+// Gather in a fixed order: body pairs (sorted), then bodies against walls.
+void World::gather_contacts() {
+  StepScratch& s = scratch_;
+  s.contacts.clear();
+  for (std::size_t k = 0; k < s.pairs.size(); ++k) {
+    const ContactManifold& m = s.pair_manifolds[k];
+    for (int c = 0; c < m.count; ++c) {
+      SolverContact sc;
+      sc.a = s.pairs[k].first;
+      sc.b = s.pairs[k].second;
+      sc.geometry = m.points[static_cast<std::size_t>(c)];
+      sc.mu = scene_.materials.friction;
+      s.contacts.push_back(sc);
+    }
+  }
+  for (std::size_t k = 0; k < s.wall_pairs.size(); ++k) {
+    const ContactManifold& m = s.wall_manifolds[k];
+    for (int c = 0; c < m.count; ++c) {
+      SolverContact sc;
+      sc.a = s.wall_pairs[k].first;
+      sc.b = wall_side(s.wall_pairs[k].second);
+      sc.geometry = m.points[static_cast<std::size_t>(c)];
+      sc.mu = scene_.materials.wall_friction;
+      s.contacts.push_back(sc);
+    }
+  }
+}
+
+// 3. Contact detection: the narrow phase runs in parallel into per-pair slots, which
+// are gathered in pair order, so the list is the same for any thread count.
+void World::detect() {
+  prepare_bodies();
+  StepScratch& s = scratch_;
+  const double margin = scene_.solver.contact_margin;
+  find_candidate_pairs(s.centers, s.radii, margin, s.pairs);
+  s.pair_manifolds.resize(s.pairs.size());  // every slot's count is set below
+  const int np = static_cast<int>(s.pairs.size());
+  load_pair_planes();
+#pragma omp parallel for schedule(dynamic, 64) if (np > kParallelMin)
+  for (int k = 0; k < np; ++k) {
+    const int a = s.pairs[static_cast<std::size_t>(k)].first, b = s.pairs[static_cast<std::size_t>(k)].second;
+    ContactManifold& m = s.pair_manifolds[static_cast<std::size_t>(k)];
+    m.count = 0;
+    if (scene_.bodies[static_cast<std::size_t>(a)].fixed && scene_.bodies[static_cast<std::size_t>(b)].fixed) continue;
+    collide_pair(collision_body(a), collision_body(b), margin, s.pair_planes[static_cast<std::size_t>(k)], m);
+  }
+  store_pair_planes();
+  const int nw = static_cast<int>(scene_.container.walls.size());
+  std::vector<Vec3> wall_points(static_cast<std::size_t>(nw));
+  for (int w = 0; w < nw; ++w) wall_points[static_cast<std::size_t>(w)] = wall_point(w);
+  find_wall_pairs(wall_points);
+  const int nwp = static_cast<int>(s.wall_pairs.size());
+  s.wall_manifolds.resize(s.wall_pairs.size());
+#pragma omp parallel for schedule(dynamic, 64) if (nwp > kParallelMin)
+  for (int k = 0; k < nwp; ++k) {
+    const int i = s.wall_pairs[static_cast<std::size_t>(k)].first, w = s.wall_pairs[static_cast<std::size_t>(k)].second;
+    collide_wall(collision_body(i), scene_.container.walls[static_cast<std::size_t>(w)].normal,
+                 wall_points[static_cast<std::size_t>(w)], margin, s.wall_manifolds[static_cast<std::size_t>(k)]);
+  }
+  gather_contacts();
+}
+
+}  // namespace ratchet

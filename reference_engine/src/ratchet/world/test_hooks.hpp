@@ -1,0 +1,15 @@
+// Test-only seams of the step. The planted-regression program (regression/planted_main.cpp)
+// sets a hook before it runs the ordinary command line, so the golden comparison can
+// be shown to catch a dropped physics term without a second build of the engine. Read
+// once per step, outside the sweeps; never set by the ratchet program.
+#pragma once
+
+namespace ratchet {
+
+struct TestHooks {
+  bool drop_wall_expansion = false;  // contacts with an expanding wall lose its expansion velocity
+};
+
+TestHooks& test_hooks();
+
+}  // namespace ratchet
