@@ -16,14 +16,15 @@ from __future__ import annotations
 
 import json
 import math
-import os
 import sys
-import tempfile
 from fractions import Fraction as Fr
 from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
 OUT = HERE / "compare_vectors.json"
+sys.path.insert(0, str(HERE.parent / "scripts"))  # for common
+
+from common.fsutil import write_atomic  # noqa: E402
 
 NAN, INF = math.nan, math.inf
 
@@ -203,11 +204,7 @@ def main(argv):
         same = OUT.is_file() and OUT.read_text() == text
         print(f"{OUT}: {'up to date' if same else 'differs from make_compare_vectors.py'}")
         return 0 if same else 1
-    fd, tmp = tempfile.mkstemp(prefix=".compare_vectors.", suffix=".partial", dir=HERE)
-    with os.fdopen(fd, "w") as fh:
-        fh.write(text)
-    os.chmod(tmp, 0o644)
-    os.replace(tmp, OUT)
+    write_atomic(OUT, text)
     print(f"wrote {OUT}")
     return 0
 

@@ -26,7 +26,6 @@ import html
 import json
 import math
 import os
-import subprocess
 import sys
 import urllib.parse
 from pathlib import Path
@@ -37,10 +36,11 @@ os.environ.setdefault("MPLBACKEND", "Agg")
 
 import pandas as pd  # noqa: E402  (after the backend choice, as later plot code needs)
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))  # scripts/, for liggghts.fsutil
-from liggghts.fsutil import write_atomic as _fsutil_write_atomic  # noqa: E402
-
-REPO_ROOT = Path(__file__).resolve().parent.parent
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))  # scripts/, for common
+from common.figures import figure_caption, save_figure  # noqa: E402,F401  (part of this module's interface)
+from common.fsutil import write_atomic  # noqa: E402
+from common.gitinfo import git_commit  # noqa: E402
+from common.paths import REPO_ROOT, build_dir as default_build_dir  # noqa: E402
 
 #: Fields of one JSON line, in the order the writer emits them.
 FIELDS = ("case", "check", "measured", "expected", "tolerance", "reason", "passed")
@@ -147,14 +147,6 @@ def totals(checks: pd.DataFrame) -> tuple[int, int]:
 # --------------------------------------------------------------------------- metadata
 
 
-def _run(command: Sequence[str]) -> str | None:
-    try:
-        done = subprocess.run(command, capture_output=True, text=True, timeout=20, check=False)
-    except (OSError, subprocess.SubprocessError):
-        return None
-    return done.stdout.strip() if done.returncode == 0 else None
-
-
 def _cmake_cache(build_dir: Path) -> dict[str, str]:
     values = {}
     try:
@@ -175,9 +167,8 @@ def collect_metadata(build_dir: str | os.PathLike | None = None, tier: str | Non
     meta = {"Date": _dt.datetime.now(_dt.timezone.utc).strftime("%Y-%m-%d %H:%M:%S UTC")}
     if tier:
         meta["Tier"] = tier
-    commit = _run(["git", "-C", str(REPO_ROOT), "rev-parse", "--short=12", "HEAD"])
+    commit, dirty = git_commit(REPO_ROOT, short=12)
     if commit:
-        dirty = _run(["git", "-C", str(REPO_ROOT), "status", "--porcelain", "--untracked-files=no"])
         meta["Git commit"] = commit + (" (with uncommitted changes)" if dirty else "")
     if build_dir is not None:
         cache = _cmake_cache(Path(build_dir))
@@ -199,31 +190,6 @@ def find_figures(out_dir: str | os.PathLike) -> list[Path]:
     if not folder.is_dir():
         return []
     return sorted(p for p in folder.iterdir() if p.suffix.lower() == ".png" and p.is_file())
-
-
-def figure_caption(figure: Path) -> str:
-    """The text of a <name>.txt beside the PNG when there is one, else the file name."""
-    caption_file = figure.with_suffix(".txt")
-    if caption_file.is_file():
-        text = " ".join(caption_file.read_text(encoding="utf-8", errors="replace").split())
-        if text:
-            return text
-    return figure.name
-
-
-def save_figure(figure, out_dir: str | os.PathLike, name: str, caption: str | None = None) -> Path:
-    """Saves a matplotlib figure as OUT/figures/<name>.png (atomically), for the reports."""
-    import io
-
-    folder = Path(out_dir) / "figures"
-    folder.mkdir(parents=True, exist_ok=True)
-    buffer = io.BytesIO()
-    figure.savefig(buffer, format="png", dpi=120, bbox_inches="tight")
-    path = folder / f"{name}.png"
-    write_atomic(path, buffer.getvalue())
-    if caption is not None:
-        write_atomic(folder / f"{name}.txt", caption + "\n")
-    return path
 
 
 # --------------------------------------------------------------------------- notes
@@ -426,17 +392,6 @@ def render_html(checks: pd.DataFrame, meta: dict[str, str] | None = None,
 # --------------------------------------------------------------------------- output
 
 
-def write_atomic(path: str | os.PathLike, content: str | bytes) -> None:
-    """Writes a temporary file beside path, then renames it over path.
-
-    A reader sees either the old file or the complete new one, never a partial
-    file; on any error the temporary file is removed (liggghts/fsutil.py, the
-    scripts' one atomic writer).
-    """
-    data = content.encode("utf-8") if isinstance(content, str) else content
-    _fsutil_write_atomic(os.fspath(path), data, mode="wb")
-
-
 def _remove_stale_reports(out_dir: Path) -> list[Path]:
     removed = []
     for name in REPORT_NAMES:
@@ -460,7 +415,7 @@ def _parse_args(argv: Sequence[str] | None) -> argparse.Namespace:
                         help="folder for report.md and report.html; PNGs in DIR/figures are embedded")
     parser.add_argument("--tier", metavar="NAME", help="validation tier, shown in the report header")
     parser.add_argument("--build-dir", metavar="DIR",
-                        default=os.environ.get("RATCHET_BUILD_DIR", "build"),
+                        default=None,
                         help="build folder to read the engine version from, relative to the "
                              "repository root (default: $RATCHET_BUILD_DIR or build)")
     color = parser.add_mutually_exclusive_group()
@@ -497,7 +452,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     color = args.color
     if color is None:
         color = sys.stdout.isatty() and "NO_COLOR" not in os.environ
-    build_dir = Path(args.build_dir)
+    build_dir = Path(args.build_dir) if args.build_dir else default_build_dir()
     if not build_dir.is_absolute():
         build_dir = REPO_ROOT / build_dir
     meta = collect_metadata(build_dir, args.tier, args.checks)

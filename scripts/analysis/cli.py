@@ -18,6 +18,9 @@ import traceback
 from pathlib import Path
 from typing import Sequence
 
+from common.fsutil import write_atomic
+from common.jsonsafe import dumps
+
 from . import output, plots, trends
 from .inputs import InputError, load_sweep
 
@@ -135,10 +138,9 @@ def main(argv: Sequence[str] | None = None) -> int:
         checks_path = output.write_checks(checks_dir,
                                           output.checks_file_name(s.folder for s in sweeps),
                                           results)
-        output.write_atomic(out_dir / "trends.json", output.dumps(document))
-        output.write_atomic(out_dir / "trends.md",
-                            output.render_markdown(meta, analyses, results, figures, notes,
-                                                   out_dir))
+        write_atomic(out_dir / "trends.json", dumps(document))
+        write_atomic(out_dir / "trends.md",
+                     output.render_markdown(meta, analyses, results, figures, notes, out_dir))
     except OSError as problem:
         return error(f"cannot write the results: {problem}")
 

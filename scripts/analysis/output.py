@@ -1,77 +1,25 @@
 """Writing the results: check lines (JSONL), trends.json, trends.md, the terminal table.
 
-Every file is written atomically through scripts/report.py's write_atomic (a
-temporary file in the same folder, then a rename), so a reader never sees a partial
-file and the project has one implementation of it.
+Every file is written atomically (common.fsutil.write_atomic: a temporary file in the
+same folder, then a rename), so a reader never sees a partial file.
 """
 
 from __future__ import annotations
 
 import hashlib
-import importlib.util
 import json
 import math
 import os
 import re
-import sys
 from pathlib import Path
 from typing import Iterable
 
-import numpy as np
-import pandas as pd
-
-SCRIPTS_DIR = Path(__file__).resolve().parent.parent
-_REPORT_NAME = "ratchet_report"
-
-
-def report_module():
-    """scripts/report.py as a module (write_atomic, save_figure, find_figures)."""
-    module = sys.modules.get(_REPORT_NAME)
-    if module is None:
-        spec = importlib.util.spec_from_file_location(_REPORT_NAME, SCRIPTS_DIR / "report.py")
-        module = importlib.util.module_from_spec(spec)
-        sys.modules[_REPORT_NAME] = module
-        spec.loader.exec_module(module)
-    return module
-
-
-def write_atomic(path: str | os.PathLike, content: str | bytes) -> None:
-    report_module().write_atomic(path, content)
+from common.figures import figure_caption
+from common.fsutil import write_atomic
 
 
 def slug(text: str) -> str:
     return re.sub(r"[^A-Za-z0-9]+", "-", text).strip("-").lower() or "sweep"
-
-
-# --------------------------------------------------------------------------- JSON
-
-
-def plain(value):
-    """A JSON-ready copy: numpy scalars to Python, NaN/Inf to None, frames to records."""
-    if isinstance(value, dict):
-        return {str(k): plain(v) for k, v in value.items()}
-    if isinstance(value, (list, tuple)):
-        return [plain(v) for v in value]
-    if isinstance(value, np.ndarray):
-        return [plain(v) for v in value.tolist()]
-    if isinstance(value, pd.DataFrame):
-        return [plain(r) for r in value.to_dict(orient="records")]
-    if isinstance(value, (np.bool_, bool)):
-        return bool(value)
-    if isinstance(value, (np.integer,)):
-        return int(value)
-    if isinstance(value, (float, np.floating)):
-        value = float(value)
-        return value if math.isfinite(value) else None
-    if isinstance(value, Path):
-        return str(value)
-    if hasattr(value, "to_dict"):
-        return plain(value.to_dict())
-    return value
-
-
-def dumps(value) -> str:
-    return json.dumps(plain(value), indent=2, allow_nan=False) + "\n"
 
 
 # --------------------------------------------------------------------------- checks
@@ -207,10 +155,9 @@ def render_markdown(meta: dict, analyses, results, figures: list[Path], notes: l
                         f"{h['denominator']['n']} realizations)"]
     if figures:
         out += ["", "## Figures"]
-        report = report_module()
         for figure in figures:
             link = os.path.relpath(figure, out_dir).replace(os.sep, "/")
-            caption = report.figure_caption(figure)
+            caption = figure_caption(figure)
             out += ["", f"### {figure.stem}", "", _md(caption), "", f"![{figure.stem}]({link})"]
     return "\n".join(out) + "\n"
 

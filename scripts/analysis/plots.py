@@ -1,7 +1,7 @@
 """Figures mirroring the paper's (PNG in OUT/figures/ with a caption .txt beside each).
 
 Each function takes an Analysis (trends.analyse) and the output folder, saves its
-figure through scripts/report.py's save_figure (Agg backend, atomic write) and
+figure through common.figures.save_figure (Agg backend, atomic write) and
 returns (paths, notes): a figure whose data are missing is skipped with a note.
 
 | function             | paper figure |
@@ -29,9 +29,11 @@ import pandas as pd  # noqa: E402
 from matplotlib import colormaps  # noqa: E402
 from matplotlib.figure import Figure  # noqa: E402
 
+from common.figures import save_figure  # noqa: E402
+
 from .inputs import (displacement_files, end_of_cycle_volumes, first_realizations,  # noqa: E402
                      read_cycles, read_displacement, read_timeseries, run_dir)
-from .output import report_module, slug  # noqa: E402
+from .output import slug  # noqa: E402
 from .trends import PAPER_ANGLE, PAPER_RATIO, TIER_SCALE  # noqa: E402
 
 MAX_LINE_POINTS = 20000
@@ -56,7 +58,7 @@ def remove_stale(a, out_dir: Path) -> None:
 
 def _save(fig: Figure, a, out_dir: Path, what: str, caption: str) -> Path:
     caption = f"{caption} Sweep {a.sweep.name}, {a.tier} tier ({TIER_SCALE[a.tier]})."
-    return report_module().save_figure(fig, out_dir, prefix(a) + what, caption)
+    return save_figure(fig, out_dir, prefix(a) + what, caption)
 
 
 def _colors(count: int):

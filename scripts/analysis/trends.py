@@ -31,7 +31,7 @@ from .inputs import ANGLE, RATIO, Sweep, end_of_cycle_volumes, run_dir
 
 TIERS = ("quick", "standard", "paper")
 
-#: What each tier means for the data (design.md section 7); printed in the reports.
+#: What each tier means for the data (docs/method.md s. 11); printed in the reports.
 TIER_SCALE = {
     "quick": "CI scale: a small bed, a few cycles, typically one realization per point; "
              "the steady state is not reached, so trends are checked in sign and roughly",

@@ -18,15 +18,14 @@ import time
 import numpy as np
 import pandas as pd
 
-from .fsutil import save_figure_atomic, write_atomic, write_csv_atomic
+from common.fsutil import save_figure_atomic, write_atomic, write_csv_atomic
+from common.jsonsafe import dumps
+from common.paths import engine_binary
+
 from .parse import ParseError, dem_wall_profile, log_completed, parse_run, read_dump
 from .scene import SceneError, load_scene
 from .translate import DECK, LOG, add_dem_arguments, options_from_args, translate
 from .units import Units, frustum_volume
-
-REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-DEFAULT_RATCHET = os.path.join(REPO, "build", "reference_engine", "ratchet")
-
 
 class CompareError(RuntimeError):
     pass
@@ -358,7 +357,7 @@ def _main(args):
     scene = load_scene(args.scene)
     out = args.out
     os.makedirs(out, exist_ok=True)
-    ratchet = os.environ.get("RATCHET_BIN", DEFAULT_RATCHET)
+    ratchet = str(engine_binary())
     engine_dir = os.path.join(out, "engine")
     Es = list(dict.fromkeys(args.E))
     timings = []
@@ -509,8 +508,7 @@ def _main(args):
     tim = pd.DataFrame(timings)
     write_csv_atomic(tim, os.path.join(out, "timings.csv"))
     summary["timings"] = tim.to_dict(orient="records")
-    write_atomic(os.path.join(out, "summary.json"),
-                 json.dumps(_clean(summary), indent=2, allow_nan=False) + "\n")
+    write_atomic(os.path.join(out, "summary.json"), dumps(summary))
 
     for _, row in comp.iterrows():
         msg = f"cycle {int(row['cycle'])}: NSCD peak {row['nscd_peak_pressure']:.4g}"
@@ -522,18 +520,3 @@ def _main(args):
         say(f"wall time {t['method']}{'' if t['method'] == 'nscd' else f' E={t.E:.3g}'}: {t['wall_seconds']:.1f} s")
     say(f"results in {out}")
     return 0
-
-
-def _clean(x):
-    """JSON-safe copy: numpy scalars to Python, NaN and infinities to null."""
-    if isinstance(x, dict):
-        return {str(k): _clean(v) for k, v in x.items()}
-    if isinstance(x, (list, tuple)):
-        return [_clean(v) for v in x]
-    if isinstance(x, np.ndarray):
-        return [_clean(v) for v in x.tolist()]
-    if isinstance(x, (np.floating, np.integer, np.bool_)):
-        x = x.item()
-    if isinstance(x, float) and not math.isfinite(x):
-        return None
-    return x

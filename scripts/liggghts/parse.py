@@ -40,7 +40,8 @@ if __package__ in (None, ""):
 import numpy as np  # noqa: E402
 import pandas as pd  # noqa: E402
 
-from .fsutil import write_csv_atomic  # noqa: E402
+from common.fsutil import write_csv_atomic  # noqa: E402
+
 from .translate import COMPLETE_MARK  # noqa: E402
 from .units import Units, frustum_side_area  # noqa: E402
 

@@ -13,46 +13,13 @@ import math
 from dataclasses import dataclass, field
 from typing import List, Optional
 
+from common.jsonc import loads_json_with_comments
+
 from .mt19937_64 import MT19937_64, uniform
 
 
 class SceneError(ValueError):
     """A scene that cannot be read or translated; the message names file and field."""
-
-
-def strip_json_comments(text):
-    """Removes // and /* */ comments outside strings (the engine's parser allows them)."""
-    out = []
-    i, n = 0, len(text)
-    in_str = False
-    while i < n:
-        c = text[i]
-        if in_str:
-            out.append(c)
-            if c == "\\" and i + 1 < n:
-                out.append(text[i + 1])
-                i += 2
-                continue
-            if c == '"':
-                in_str = False
-            i += 1
-        elif c == '"':
-            in_str = True
-            out.append(c)
-            i += 1
-        elif text.startswith("//", i):
-            j = text.find("\n", i)
-            i = n if j < 0 else j
-        elif text.startswith("/*", i):
-            j = text.find("*/", i + 2)
-            if j < 0:
-                raise ValueError("unterminated /* comment")
-            out.append(" ")
-            i = j + 2
-        else:
-            out.append(c)
-            i += 1
-    return "".join(out)
 
 
 @dataclass
@@ -392,7 +359,7 @@ def load_scene(path):
     except OSError as e:
         raise SceneError(f"{path}: cannot open the scene file ({e.strerror})") from None
     try:
-        j = json.loads(strip_json_comments(text))
+        j = loads_json_with_comments(text)
     except ValueError as e:
         raise SceneError(f"{path}: not valid JSON: {e}") from None
     return build_scene(j, path)

@@ -28,7 +28,8 @@ if __package__ in (None, ""):
     sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
     __package__ = "liggghts"  # noqa: A001
 
-from .fsutil import write_atomic  # noqa: E402
+from common.fsutil import write_atomic  # noqa: E402
+
 from .scene import SceneError, load_scene  # noqa: E402
 from .units import Units, rayleigh_time  # noqa: E402
 

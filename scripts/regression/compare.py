@@ -39,7 +39,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Sequence
 
-from liggghts.fsutil import write_atomic  # noqa: F401  (the scripts' one atomic writer; regression/run uses it)
+from common.fsutil import write_atomic
 
 KEY_TOL = 1e-12
 KEY_FLOOR = 1.0

@@ -15,13 +15,13 @@ import pytest
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
 from liggghts.mt19937_64 import MT19937_64, uniform, uniform01  # noqa: E402
-from liggghts.scene import SceneError, build_scene, load_scene, strip_json_comments  # noqa: E402
+from common.paths import engine_binary  # noqa: E402
+from liggghts.scene import SceneError, build_scene, load_scene  # noqa: E402
 from liggghts.translate import (DemOptions, cone_side_quad, quad_triangles, stl_text,  # noqa: E402
                                 translate)
 from liggghts.units import Units, rayleigh_time  # noqa: E402
 
-REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-RATCHET = os.environ.get("RATCHET_BIN", os.path.join(REPO, "build", "reference_engine", "ratchet"))
+RATCHET = str(engine_binary())
 
 
 # ------------------------------------------------------------------ mt19937_64
@@ -69,9 +69,15 @@ def scene_json(**over):
     return j
 
 
-def test_comments_are_stripped_outside_strings():
-    text = '{"a": "x // not a comment", /* c */ "b": 1 // end\n}'
-    assert json.loads(strip_json_comments(text)) == {"a": "x // not a comment", "b": 1}
+def test_a_scene_file_with_comments_is_read(tmp_path):
+    # The engine's parser allows // and /* */ comments; so does load_scene (common.jsonc).
+    text = json.dumps(scene_json(name="bed // not a comment"), indent=1)
+    text = "// a scene\n" + text.replace('"seed": 3', '"seed": /* another bed */ 4')
+    p = tmp_path / "s.json"
+    p.write_text(text)
+    sc = load_scene(str(p))
+    assert sc.name == "bed // not a comment"
+    assert sc.seed == 4
 
 
 def test_generated_spheres_inside_the_cone_and_apart():

@@ -6,7 +6,8 @@ which the C++ implementation's GoogleTest (regression/compare/compare_test.cpp) 
 too: both implementations reproduce the same expected figures, so they are the same rule.
 
 Run with Debian's interpreter: /usr/bin/python3 -m pytest -q scripts/tests
-The driver tests need an engine binary: $RATCHET_BIN, else build/reference_engine/ratchet;
+The driver tests need an engine binary: $RATCHET_BIN, else
+<$RATCHET_BUILD_DIR or build>/reference_engine/ratchet (common.paths.engine_binary);
 they are skipped (with the reason) when neither exists.
 """
 
@@ -26,6 +27,7 @@ SCRIPTS = Path(__file__).resolve().parent.parent
 REPO = SCRIPTS.parent
 sys.path.insert(0, str(SCRIPTS))
 
+from common.paths import engine_binary  # noqa: E402
 from regression import compare  # noqa: E402
 
 VECTORS_PATH = REPO / "regression" / "compare_vectors.json"
@@ -241,9 +243,7 @@ def test_write_subset_is_round_trip(tmp_path):
 
 def _ratchet() -> Path | None:
     """$RATCHET_BIN, else <$RATCHET_BUILD_DIR or build>/reference_engine/ratchet."""
-    cand = os.environ.get("RATCHET_BIN")
-    build = Path(os.environ.get("RATCHET_BUILD_DIR") or "build")
-    p = Path(cand) if cand else (build if build.is_absolute() else REPO / build) / "reference_engine" / "ratchet"
+    p = engine_binary()
     return p if p.is_file() and os.access(p, os.X_OK) else None
 
 

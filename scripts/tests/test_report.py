@@ -188,20 +188,6 @@ def test_atomic_write_leaves_no_temporary_files(folders):
     assert sorted(p.name for p in out.iterdir()) == ["report.html", "report.md"]
 
 
-def test_failed_write_leaves_neither_temporary_nor_partial_file(tmp_path, monkeypatch):
-    target = tmp_path / "report.md"
-    target.write_text("old\n", encoding="utf-8")
-
-    def broken_replace(src, dst):
-        raise OSError("disk full")
-
-    monkeypatch.setattr(report.os, "replace", broken_replace)
-    with pytest.raises(OSError):
-        report.write_atomic(target, "new\n")
-    assert [p.name for p in tmp_path.iterdir()] == ["report.md"]
-    assert target.read_text(encoding="utf-8") == "old\n"
-
-
 def test_figures_are_embedded(folders):
     checks, out = folders
     write_checks(checks, MIXED[:1])

@@ -18,6 +18,7 @@ import pytest
 SCRIPTS = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(SCRIPTS))
 
+import report  # noqa: E402  (scripts/report.py, which reads the check lines)
 from analysis import cli, inputs, output, plots, trends  # noqa: E402
 
 PYTHON = "/usr/bin/python3"
@@ -453,7 +454,6 @@ def test_check_lines_follow_the_check_record_format(tmp_path):
         assert tuple(record) == fields
         assert isinstance(record["passed"], bool)
         assert record["measured"] is None or isinstance(record["measured"], (int, float))
-    report = output.report_module()
     checks = report.load_checks(tmp_path / "checks")
     assert len(checks) == sum(r.status != "skipped" for r in a.results)
     assert not checks.loc[checks["check"] == "P_max slope vs theta_c", "passed"].iloc[0]
@@ -550,7 +550,6 @@ def test_cli_writes_the_results_and_exits_0_when_all_pass(tmp_path, capsys):
     # No temporary file is left behind.
     assert not [p for p in out.rglob("*") if p.name.endswith(".tmp")]
     # The validation report reads the lines and embeds the figures.
-    report = output.report_module()
     assert report.main(["--checks", str(out / "checks"), "--out", str(out), "--no-color"]) == 0
     assert "trends_angle_angle_P_max.png" in (out / "report.md").read_text()
 

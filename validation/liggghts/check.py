@@ -48,6 +48,11 @@ import sys
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 REPO = os.path.dirname(os.path.dirname(HERE))
+sys.path.insert(0, os.path.join(REPO, "scripts"))  # for common
+
+from common.fsutil import write_atomic  # noqa: E402
+from common.jsonc import load_json_with_comments  # noqa: E402
+
 COMPARE = os.path.join(REPO, "scripts", "compare-methods")
 SCENES = {0: os.path.join(HERE, "quick_theta0.json"), 6: os.path.join(HERE, "quick_theta6.json")}
 
@@ -176,19 +181,16 @@ def copy_figures(out, name):
     for fig, caption in captions.items():
         src = os.path.join(out, f"{fig}.png")
         if os.path.exists(src):
-            dst = os.path.join(folder, f"liggghts_{name}_{fig}.png")
-            shutil.copyfile(src, dst + ".partial")
-            os.replace(dst + ".partial", dst)
-            with open(dst[:-4] + ".txt.partial", "w") as fh:
-                fh.write(f"LIGGGHTS cross-check, {name}: {caption}\n")
-            os.replace(dst[:-4] + ".txt.partial", dst[:-4] + ".txt")
+            dst = os.path.join(folder, f"liggghts_{name}_{fig}")
+            with open(src, "rb") as fh:
+                write_atomic(dst + ".png", fh.read())
+            write_atomic(dst + ".txt", f"LIGGGHTS cross-check, {name}: {caption}\n")
 
 
 def ratio_scene(scene, ratio, folder, seed=None):
     """The scene with alpha_c = ratio * alpha_p (and another seed: another realization of
     the generated bed), written to folder; returns its path."""
-    with open(scene) as fh:
-        data = json.load(fh)
+    data = load_json_with_comments(scene)
     data["thermal"]["alpha_c"] = ratio * data["thermal"]["alpha_p"]
     data["name"] = f"{data['name']}_ratio{ratio:g}"
     if seed is not None:
@@ -196,9 +198,7 @@ def ratio_scene(scene, ratio, folder, seed=None):
         data["name"] += f"_seed{seed}"
     os.makedirs(folder, exist_ok=True)
     path = os.path.join(folder, data["name"] + ".json")
-    with open(path + ".partial", "w") as fh:
-        json.dump(data, fh, indent=1)
-    os.replace(path + ".partial", path)
+    write_atomic(path, json.dumps(data, indent=1) + "\n")
     return path
 
 
@@ -246,9 +246,7 @@ def write_note(Es, summaries, ratio_rows):
     folder = os.path.join(os.path.dirname(os.path.abspath(checks)), "notes")
     os.makedirs(folder, exist_ok=True)
     path = os.path.join(folder, "liggghts.md")
-    with open(path + ".partial", "w") as fh:
-        fh.write("\n".join(lines) + "\n")
-    os.replace(path + ".partial", path)
+    write_atomic(path, "\n".join(lines) + "\n")
 
 
 def label(E):

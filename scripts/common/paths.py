@@ -1,0 +1,25 @@
+"""Where things are: the repository root, the build folder and the engine binary."""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+#: scripts/
+SCRIPTS_DIR = Path(__file__).resolve().parent.parent
+#: The repository root (the folder that holds scripts/).
+REPO_ROOT = SCRIPTS_DIR.parent
+
+
+def build_dir() -> Path:
+    """$RATCHET_BUILD_DIR when set and not empty, else build; a relative path is taken
+    from the repository root (as scripts/build, test and validate take it)."""
+    folder = Path(os.environ.get("RATCHET_BUILD_DIR") or "build")
+    return folder if folder.is_absolute() else REPO_ROOT / folder
+
+
+def engine_binary() -> Path:
+    """$RATCHET_BIN when set and not empty, else <build_dir()>/reference_engine/ratchet
+    (whether it exists is for the caller to check)."""
+    binary = os.environ.get("RATCHET_BIN")
+    return Path(binary) if binary else build_dir() / "reference_engine" / "ratchet"
