@@ -238,6 +238,30 @@ TEST(Packing, PackingOfAnotherSceneIsRefusedBeforeAnythingChanges) {
   fs::remove_all(d);
 }
 
+// A packing fixes the bed; how closely a run from it is solved may differ (the study of
+// what accuracy costs varies tolerance, criterion, cap and acceleration from one bed).
+// Anything else that shapes the bed is still refused.
+TEST(Packing, SolveKnobsMayDifferFromThePackingsScene) {
+  const fs::path d = scratch("knobs");
+  const std::string file = (d / "p.state").string();
+  (void)packing_of(bed(), file);
+  json knobs = with(with(with(bed(), "solver.tolerance", 1e-7), "solver.max_iterations", 5000), "solver.criterion",
+                    "velocity");
+  knobs = with(with(knobs, "solver.acceleration", "anderson"), "solver.anderson_depth", 3);
+  World w(build_scene(knobs, "knobs.json"));
+  EXPECT_NE(packing_key(w.scene()), packing_key(build_scene(bed(), "a.json")));
+  EXPECT_NO_THROW((void)load_packing(file, w));
+  EXPECT_GT(w.state().step, 0);
+  World other(build_scene(with(with(bed(), "solver.tolerance", 1e-7), "solver.p_gap", 0.3), "gap.json"));
+  try {
+    (void)load_packing(file, other);
+    FAIL() << "a packing made with p_gap 0.1 was accepted for p_gap 0.3";
+  } catch (const StateFileError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("field 'solver.p_gap'"));
+  }
+  fs::remove_all(d);
+}
+
 // The settle stage of a settle section ends at the first state with KE <= ke_ratio x
 // the peak so far, and the protocol then counts from there.
 TEST(Packing, SettleStageEndsAtTheFirstStateBelowTheThreshold) {

@@ -51,6 +51,16 @@ void differences(const json& a, const json& b, const std::string& path, std::vec
                 " in the packing's scene and " + shown(b) + " in this one");
 }
 
+// How closely the solve converges, not what it solves: a packing fixes the bed, and a
+// run from it may vary these (the study of what accuracy costs; docs/cli.md).
+constexpr const char* kSolveKnobs[] = {"tolerance", "criterion", "max_iterations", "acceleration", "anderson_depth"};
+
+json without_solve_knobs(json scene) {
+  if (scene.is_object() && scene.contains("solver") && scene["solver"].is_object())
+    for (const char* k : kSolveKnobs) scene["solver"].erase(k);
+  return scene;
+}
+
 }  // namespace
 
 json packing_scene(const json& scene) {
@@ -178,7 +188,10 @@ json load_packing(const std::string& path, World& world) {
   if (f.state.x.size() != s.bodies.size())
     throw StateFileError(path + ": packing of " + std::to_string(f.state.x.size()) + " bodies, but " + s.source + " has " +
                          std::to_string(s.bodies.size()));
-  if (f.key != key) {
+  // A key differs also when only the solve knobs differ; such a packing is the same bed.
+  const bool same_bed = f.meta.contains("packing_scene") &&
+                        without_solve_knobs(f.meta.at("packing_scene")) == without_solve_knobs(packing_scene(s.as_run));
+  if (f.key != key && !same_bed) {
     std::vector<std::string> diff;
     if (f.meta.contains("packing_scene")) differences(f.meta.at("packing_scene"), packing_scene(s.as_run), "", diff);
     std::string what;

@@ -124,7 +124,8 @@ void read_effects(const Reader& r, const json& j, Effects& e) {
 
 void read_solver(const Reader& r, const json& j, SolverSettings& s) {
   const std::string p = "solver";
-  r.object(j, p, {"tolerance", "criterion", "max_iterations", "theta", "p_gap", "warm_start", "contact_margin", "threads"});
+  r.object(j, p, {"tolerance", "criterion", "max_iterations", "theta", "p_gap", "warm_start", "contact_margin", "threads",
+                  "acceleration", "anderson_depth"});
   s.tolerance = r.positive(j, p, "tolerance", s.tolerance);
   if (j.contains("criterion")) {
     const json& c = j.at("criterion");
@@ -133,6 +134,13 @@ void read_solver(const Reader& r, const json& j, SolverSettings& s) {
     else r.fail(p + ".criterion", "\"impulse\" or \"velocity\"", &c);
   }
   s.max_iterations = static_cast<int>(r.integer(j, p, "max_iterations", s.max_iterations, 1, 100000000));
+  if (j.contains("acceleration")) {
+    const json& a = j.at("acceleration");
+    if (a == "none") s.acceleration = Acceleration::None;
+    else if (a == "anderson") s.acceleration = Acceleration::Anderson;
+    else r.fail(p + ".acceleration", "\"none\" or \"anderson\"", &a);
+  }
+  s.anderson_depth = static_cast<int>(r.integer(j, p, "anderson_depth", s.anderson_depth, 1, 50));
   s.theta = r.number(j, p, "theta", s.theta, 0.5, 1.0, false, false, "a number in [0.5, 1]");
   s.p_gap = r.number(j, p, "p_gap", s.p_gap, 0.0, 1.0, true, false, "a number in (0, 1]");
   s.warm_start = r.boolean(j, p, "warm_start", s.warm_start);

@@ -29,10 +29,18 @@ enum class Criterion {
              // the velocity the contact impulses give (blind to redundant impulses)
 };
 
+// How the Gauss-Seidel fixed point is reached (docs/method.md s. 4).
+enum class Acceleration {
+  None,      // plain sweeps
+  Anderson,  // Anderson acceleration of the sweeps (solver/anderson.hpp)
+};
+
 struct SolverSettings {
   double tolerance = 1e-4;  // on the criterion's relative change between sweeps (design.md s.3)
   Criterion criterion = Criterion::Impulse;
   int max_iterations = 1000;
+  Acceleration acceleration = Acceleration::None;
+  int anderson_depth = 5;   // memory of the Anderson acceleration, in sweeps
   double theta = 1.0;       // Moreau-Jean theta in [0.5, 1]; 1 = fully implicit
   double p_gap = 0.1;       // fraction of an overlap closed per step, in (0, 1]
   bool warm_start = true;

@@ -3,9 +3,46 @@
 #include <algorithm>
 #include <cmath>
 
+#include "ratchet/solver/anderson.hpp"
 #include "ratchet/solver/local_coulomb.hpp"
 
 namespace ratchet {
+
+namespace {
+
+// One Gauss-Seidel sweep in row order: each contact solved exactly with the others
+// frozen, its change applied at once. d2 and l2 accumulate |d lambda|^2 and |lambda|^2.
+[[gnu::always_inline]] inline void sweep(std::vector<SolverRow>& cs, SolverBodies& B, bool friction, bool rotation,
+                                         double& d2, double& l2, std::int64_t& tangential) {
+  for (SolverRow& c : cs) {
+    const Vec3 u = local_velocity(c, B, rotation);
+    Vec3 lambda_new;
+    if (friction) {
+      // w = u - W lambda (velocity without this contact's impulse) + bias on the normal.
+      Vec3 w = u - c.W * c.lambda;
+      w[0] += c.bias;
+      lambda_new = solve_local_coulomb(c.W, c.W_inv, w, c.mu).lambda;
+      ++tangential;
+    } else {
+      const double w_n = u[0] - c.W(0, 0) * c.lambda[0] + c.bias;
+      lambda_new = Vec3(solve_local_normal(c.W(0, 0), w_n), 0.0, 0.0);
+    }
+    const Vec3 d = lambda_new - c.lambda;
+    if (d.squaredNorm() > 0.0) apply_local_impulse(c, d, B, rotation);
+    c.lambda = lambda_new;
+    d2 += d.squaredNorm();
+    l2 += lambda_new.squaredNorm();
+  }
+}
+
+// Body velocities from scratch for the impulses now in the rows: v = v_free + M^-1 H lambda.
+void rebuild_velocities(const std::vector<SolverRow>& cs, SolverBodies& B, const SolverScratch& s, bool rotation) {
+  B.v = s.v_free;
+  B.w = s.w_free;
+  for (const SolverRow& c : cs) apply_local_impulse(c, c.lambda, B, rotation);
+}
+
+}  // namespace
 
 double velocity_change(const SolverBodies& B, const std::vector<Vec3>& v0, const std::vector<Vec3>& w0,
                        bool rotation) {
@@ -41,28 +78,13 @@ NsgsResult solve_nsgs(std::vector<SolverRow>& cs, SolverBodies& B, const NsgsSet
   const int half = set.max_iterations / 2;
   double normal_half = -1.0;  // sum of the normal impulses after half the allowed sweeps
   std::int64_t tangential = 0;
+  AndersonMixer mixer(set.anderson_depth);
+  const bool accelerate = set.anderson_depth > 0;
   for (it = 1; it <= set.max_iterations && !cs.empty(); ++it) {
     if (set.by_velocity) { s.v_sweep = B.v; s.w_sweep = B.w; }
+    if (accelerate) mixer.begin(cs);
     double d2 = 0.0, l2 = 0.0;
-    for (SolverRow& c : cs) {
-      const Vec3 u = local_velocity(c, B, rotation);
-      Vec3 lambda_new;
-      if (friction) {
-        // w = u - W lambda (velocity without this contact's impulse) + bias on the normal.
-        Vec3 w = u - c.W * c.lambda;
-        w[0] += c.bias;
-        lambda_new = solve_local_coulomb(c.W, c.W_inv, w, c.mu).lambda;
-        ++tangential;
-      } else {
-        const double w_n = u[0] - c.W(0, 0) * c.lambda[0] + c.bias;
-        lambda_new = Vec3(solve_local_normal(c.W(0, 0), w_n), 0.0, 0.0);
-      }
-      const Vec3 d = lambda_new - c.lambda;
-      if (d.squaredNorm() > 0.0) apply_local_impulse(c, d, B, rotation);
-      c.lambda = lambda_new;
-      d2 += d.squaredNorm();
-      l2 += lambda_new.squaredNorm();
-    }
+    sweep(cs, B, friction, rotation, d2, l2, tangential);
     if (set.by_velocity) {
       const double de = velocity_change(B, s.v_sweep, s.w_sweep, rotation);
       const double e = velocity_change(B, s.v_free, s.w_free, rotation);
@@ -75,6 +97,7 @@ NsgsResult solve_nsgs(std::vector<SolverRow>& cs, SolverBodies& B, const NsgsSet
       for (const SolverRow& c : cs) normal_half += c.lambda[0];
     }
     if (residual < tol) break;
+    if (accelerate && mixer.mix(cs)) rebuild_velocities(cs, B, s, rotation);
   }
   out.sweeps = cs.empty() ? 0 : std::min(it, set.max_iterations);
   out.converged = cs.empty() || residual < tol;
@@ -87,6 +110,7 @@ NsgsResult solve_nsgs(std::vector<SolverRow>& cs, SolverBodies& B, const NsgsSet
   out.normal_growth = !out.converged && normal_half >= 0.0 && normal_end > 1.5 * normal_half;
   out.residual = residual;
   out.tangential_solves = tangential;
+  out.restarts = mixer.restarts();
   return out;
 }
 

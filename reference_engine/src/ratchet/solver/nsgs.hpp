@@ -50,6 +50,7 @@ struct NsgsSettings {
   bool by_velocity = false;  // solver.criterion: velocity (else impulse)
   bool friction = true;
   bool rotation = true;
+  int anderson_depth = 0;    // > 0: Anderson acceleration with this memory (solver/anderson.hpp)
 };
 
 struct NsgsResult {
@@ -58,6 +59,7 @@ struct NsgsResult {
   bool converged = true;
   bool normal_growth = false;          // unconverged, and the normal impulses still grew
   std::int64_t tangential_solves = 0;  // local solves with friction in this call
+  int restarts = 0;                    // Anderson history restarts
 };
 
 // Local relative velocity of A with respect to B at the contact, with the expansion
@@ -87,8 +89,8 @@ inline Vec3 local_velocity(const SolverRow& r, const SolverBodies& B, bool rotat
   }
 }
 
-// Scratch the velocity criterion needs: the velocities before the contact impulses
-// (set by the caller before the warm start) and before each sweep.
+// The velocities before the contact impulses (set by the caller before the warm start,
+// for the velocity criterion and the Anderson acceleration) and before each sweep.
 struct SolverScratch {
   std::vector<Vec3> v_free, w_free, v_sweep, w_sweep;
 };

@@ -121,7 +121,8 @@ void World::solve() {
   settings.by_velocity = scene_.solver.criterion == Criterion::Velocity;
   settings.friction = friction_on_;
   settings.rotation = rotation_on_;
-  if (settings.by_velocity) { scratch_.solver.v_free = state_.v; scratch_.solver.w_free = state_.w; }
+  if (scene_.solver.acceleration == Acceleration::Anderson) settings.anderson_depth = scene_.solver.anderson_depth;
+  if (settings.by_velocity || settings.anderson_depth > 0) { scratch_.solver.v_free = state_.v; scratch_.solver.w_free = state_.w; }
   warm_start(bodies);
   const NsgsResult r = solve_nsgs(scratch_.rows, bodies, settings, scratch_.solver);
   stats_.iterations = r.sweeps;

@@ -1,0 +1,43 @@
+// Anderson acceleration of the Gauss-Seidel fixed point (Anderson 1965; type II as in
+// Walker & Ni 2011, "Anderson acceleration for fixed-point iterations", SIAM J. Numer.
+// Anal. 49(4)). A sweep maps impulses x to G(x); with the last m differences of
+// f = G(x) - x and of G(x), the next start is
+//   x+ = G(x_k) - dG gamma,  gamma = argmin |f_k - dF gamma|,
+// projected back onto each contact's Coulomb cone. The fixed point is the one
+// Gauss-Seidel converges to, so the local law is solved exactly as before; only the
+// route to it is shorter. Residuals are weighted by sqrt(W_nn) per contact, which makes
+// them velocities (the energy scale of the problem) instead of raw impulses.
+// Restarted (history cleared) whenever |f| grows, as nonsmooth maps can mislead it.
+#pragma once
+
+#include <vector>
+
+#include "ratchet/solver/nsgs.hpp"
+
+namespace ratchet {
+
+class AndersonMixer {
+ public:
+  explicit AndersonMixer(int depth) : depth_(depth) {}
+
+  // Before a sweep: remembers the impulses x_k the sweep starts from.
+  void begin(const std::vector<SolverRow>& rows);
+
+  // After the sweep (rows hold G(x_k)): updates the history and, when it has one,
+  // writes the extrapolated, projected impulses into the rows and returns true (the
+  // caller must then rebuild the body velocities from them).
+  bool mix(std::vector<SolverRow>& rows);
+
+  int restarts() const { return restarts_; }
+
+ private:
+  int depth_;
+  std::vector<double> x_, f_prev_, g_prev_, f_, g_;
+  std::vector<std::vector<double>> dF_, dG_;  // ring buffers of columns
+  int count_ = 0, head_ = 0;
+  bool have_prev_ = false;
+  double fnorm_prev_ = 0.0;
+  int restarts_ = 0;
+};
+
+}  // namespace ratchet
