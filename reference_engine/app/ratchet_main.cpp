@@ -23,9 +23,10 @@
 #include <thread>
 
 #include "cli_main.hpp"
-#include "ratchet/io/run_output.hpp"
 #include "ratchet/io/state_file.hpp"
+#include "ratchet/observe/energy.hpp"
 #include "ratchet/run/packing.hpp"
+#include "ratchet/run/run_output.hpp"
 #include "ratchet/run/runner.hpp"
 #include "ratchet/run/sweep.hpp"
 #include "ratchet/scene/scene.hpp"
@@ -200,7 +201,8 @@ int ratchet_cli_main(int argc, char** argv) {
           last = now;
           printed = true;
           std::fprintf(stderr, "\r%s: settling, t=%.4g of at most %.4g, KE=%.3g   ", scene.name.c_str(), w.state().t,
-                       scene.settle.enabled ? scene.settle.max_time : scene.thermal.start_time, w.kinetic_energy());
+                       scene.settle.enabled ? scene.settle.max_time : scene.thermal.start_time,
+                       ratchet::kinetic_energy(w.scene(), w.state()));
           std::fflush(stderr);
         });
       } catch (...) {

@@ -112,5 +112,21 @@ TEST(ConvexHullVolume, QhullPrintsNothingOnSuccess) {
   EXPECT_GT(v, 4.0);  // the ball is 4.19; 500 points reach within ~1 %
 }
 
+// The bed's volume is the hull of its bed points: a unit cube scales with s_p^3.
+TEST(BedVolume, CubeAtTheParticleScale) {
+  const SceneDef s = build_scene(nlohmann::json::parse(R"({
+    "name": "cube", "time": {"dt": 0.01, "duration": 1.0},
+    "particles": {"bodies": [{"shape": "polyhedron", "position": [1, 2, 3],
+       "vertices": [[0,0,0],[1,0,0],[0,1,0],[1,1,0],[0,0,1],[1,0,1],[0,1,1],[1,1,1]]}]}
+  })"),
+                                 "cube.json");
+  State st;
+  st.x = {s.bodies[0].position};
+  st.q = {s.bodies[0].orientation};
+  EXPECT_NEAR(bed_volume(s, st), 1.0, 1e-12);
+  st.s_p = 1.1;
+  EXPECT_NEAR(bed_volume(s, st), 1.1 * 1.1 * 1.1, 1e-12);
+}
+
 }  // namespace
 }  // namespace ratchet

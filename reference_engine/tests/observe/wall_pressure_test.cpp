@@ -7,6 +7,8 @@
 #include <stdexcept>
 #include <vector>
 
+#include "ratchet/observe/bed_geometry.hpp"
+
 namespace ratchet {
 namespace {
 
@@ -108,6 +110,33 @@ TEST(WallStressProfile, EmptyBandsAreZeroAndBadInputThrows) {
   EXPECT_THROW(wall_stress_profile({1.0}, {1.0}, 8.5, 2.0, 16, 10.0, 0), std::invalid_argument);
   EXPECT_THROW(wall_stress_profile({1.0}, {1.0}, 8.5, 2.0, 16, 0.0, 5), std::invalid_argument);
   EXPECT_THROW(wall_stress_profile({std::nan("")}, {1.0}, 8.5, 2.0, 16, 10.0, 5), std::invalid_argument);
+}
+
+// The scene's wetted area is frustum_side_area at the container scale, bit for bit
+// (one formula), and 0 where there is no wetted wall.
+TEST(WettedSideArea, IsTheFrustumAtTheContainerScale) {
+  const SceneDef s = build_scene(nlohmann::json::parse(R"({
+    "name": "cone", "time": {"dt": 0.01, "duration": 1.0},
+    "container": {"type": "cone", "bottom_radius": 3.0, "opening_angle_deg": 6.0, "segments": 12},
+    "particles": {"bodies": [{"shape": "sphere", "radius": 0.5, "position": [0, 0, 0.5]}]}
+  })"),
+                                 "cone.json");
+  State st;
+  st.x = {Vec3(0, 0, 0.5)};
+  st.q = {Quat::Identity()};
+  st.s_c = 1.01;
+  EXPECT_EQ(wetted_side_area(s, st, 2.0), frustum_side_area(1.01 * 3.0, 6.0, 12, 2.0));
+  EXPECT_EQ(wetted_side_area(s, st, 0.0), 0.0);
+  EXPECT_EQ(wetted_side_area(s, st, -1.0), 0.0);
+  // Pressure: the side force over the area up to the bed height (the sphere's top, 1).
+  EXPECT_EQ(side_wall_pressure(s, st, 7.0), 7.0 / frustum_side_area(1.01 * 3.0, 6.0, 12, 1.0));
+  st.x[0].z() = -2.0;  // no bed above the floor: no area, no pressure
+  EXPECT_EQ(side_wall_pressure(s, st, 7.0), 0.0);
+  SceneDef planes = s;
+  planes.container.type = ContainerDef::Type::Planes;
+  st.x[0].z() = 0.5;
+  EXPECT_EQ(wetted_side_area(planes, st, 2.0), 0.0);
+  EXPECT_EQ(side_wall_pressure(planes, st, 7.0), 0.0);
 }
 
 }  // namespace

@@ -229,14 +229,5 @@ TEST(RunObservers, StartOfCyclingIsTakenOnceWhenTheMarkFallsJustBelowAStep) {
   fs::remove_all(d);
 }
 
-TEST(RunObservers, BedPointsOfASphereAreOnItsSurface) {
-  json j = small_bed();
-  j["particles"] = {{"bodies", {{{"shape", "sphere"}, {"radius", 0.5}, {"position", {0, 0, 1}}}}}};
-  World world(build_scene(j, "sphere.json"));
-  const auto pts = RunObservers::bed_points(world);
-  ASSERT_EQ(pts.size(), 14u);
-  for (const Vec3& p : pts) EXPECT_NEAR((p - Vec3(0, 0, 1)).norm(), 0.5, 1e-15);
-}
-
 }  // namespace
 }  // namespace ratchet

@@ -1,6 +1,7 @@
 #include "ratchet/observe/bed_volume.hpp"
 
 #include "ratchet/geometry/convex_polyhedron.hpp"
+#include "ratchet/observe/bed_geometry.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -78,5 +79,7 @@ double convex_hull_volume(const std::vector<Vec3>& points) {
   if (code == qh_ERRsingular || code == qh_ERRprec || code == qh_ERRinput) fail(why);
   throw std::runtime_error("convex_hull_volume: " + why);
 }
+
+double bed_volume(const SceneDef& scene, const State& state) { return convex_hull_volume(bed_points(scene, state)); }
 
 }  // namespace ratchet

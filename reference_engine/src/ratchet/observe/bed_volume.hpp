@@ -1,11 +1,13 @@
 // Bed volume V(t): the volume of the convex hull of all particle vertices (paper s.3,
-// "V is calculated from the convex hull of the vertices of all particles"; design.md
-// s.5). Pure function of a point cloud, no World.
+// "V is calculated from the convex hull of the vertices of all particles";
+// docs/output-format.md, "Bed volume"). Pure functions of a point cloud or a state.
 #pragma once
 
 #include <vector>
 
 #include "ratchet/core/types.hpp"
+#include "ratchet/scene/scene.hpp"
+#include "ratchet/world/state.hpp"
 
 namespace ratchet {
 
@@ -15,5 +17,8 @@ namespace ratchet {
 // degenerate cloud (coincident, collinear or coplanar points, relative to its size);
 // std::runtime_error if Qhull fails for another reason.
 double convex_hull_volume(const std::vector<Vec3>& points);
+
+// The bed's volume: convex_hull_volume of bed_points (observe/bed_geometry.hpp).
+double bed_volume(const SceneDef& scene, const State& state);
 
 }  // namespace ratchet

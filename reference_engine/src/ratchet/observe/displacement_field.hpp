@@ -1,7 +1,8 @@
 // Displacement and vorticity fields of the bed in the (r, z) plane (paper s.2 "an
 // averaging around the central axis using a grid ... mapping to cylindrical
 // coordinates, where an averaging over the polar angle is performed", s.3 Figs. 5-7;
-// design.md s.5). Pure functions of particle centres, no World.
+// docs/output-format.md, `displacement_<a>_<b>.csv`). Pure functions of particle
+// centres, no World.
 #pragma once
 
 #include <vector>

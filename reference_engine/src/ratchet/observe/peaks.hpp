@@ -1,7 +1,7 @@
 // Peak pressure per thermal cycle and the mean peak pressure over the steady-state
 // cycles, P_max-bar (paper s.3, Fig. 3: "the peak value for each cycle is denoted by
-// a dot", "mean peak pressure during the steady state"; design.md s.5). Works on any
-// sampled signal, no World.
+// a dot", "mean peak pressure during the steady state"; docs/output-format.md, "P_max").
+// Works on any sampled signal, no World.
 #pragma once
 
 #include <vector>

@@ -1,7 +1,7 @@
-// Snapshots for ParaView (design.md s.5, "contact force network and particle shapes as
-// VTK"; paper Fig. 4): legacy ASCII VTK files ("# vtk DataFile Version 3.0", DATASET
-// POLYDATA; format: VTK User's Guide, "VTK File Formats", legacy format). Written
-// atomically (PATH.partial, then rename; io/atomic_file.hpp). Plain data, no World.
+// Snapshots for ParaView (docs/output-format.md, "VTK files"; paper Fig. 4): legacy
+// ASCII VTK files ("# vtk DataFile Version 3.0", DATASET POLYDATA; format: VTK User's
+// Guide, "VTK File Formats", legacy format). Written atomically (PATH.partial, then
+// rename; io/atomic_file.hpp). Plain data, no World.
 #pragma once
 
 #include <string>

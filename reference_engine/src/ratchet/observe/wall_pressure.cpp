@@ -6,11 +6,22 @@
 #include <stdexcept>
 #include <string>
 
+#include "ratchet/observe/bed_geometry.hpp"
+
 namespace ratchet {
 namespace {
 
 [[noreturn]] void fail(const char* where, const std::string& why) {
   throw std::invalid_argument(std::string(where) + ": " + why);
+}
+
+// The lateral area formula, unchecked: N trapezoids of mean width (a0 + a1) tan(pi/N)
+// and slant height H / cos(theta). The `pressure` column depends on its operation
+// order bit for bit: keep it.
+double lateral_area(double a0, double opening_angle_deg, int segments, double height) {
+  const double theta = opening_angle_deg * M_PI / 180.0;
+  const double a1 = a0 + height * std::tan(theta);
+  return segments * (a0 + a1) * std::tan(M_PI / segments) * height / std::cos(theta);
 }
 
 }  // namespace
@@ -23,10 +34,20 @@ double frustum_side_area(double bottom_apothem, double opening_angle_deg, int se
   if (!std::isfinite(opening_angle_deg) || !(std::abs(opening_angle_deg) < 90.0))
     fail(where, "opening angle must lie in (-90, 90) degrees");
   const double theta = opening_angle_deg * M_PI / 180.0;
-  const double a0 = bottom_apothem, a1 = a0 + height * std::tan(theta);
-  if (a1 < 0.0) fail(where, "the frustum closes below the given height (negative top apothem)");
-  // N trapezoids: mean width (a0 + a1) tan(pi/N), slant height H / cos(theta).
-  return segments * (a0 + a1) * std::tan(M_PI / segments) * height / std::cos(theta);
+  if (bottom_apothem + height * std::tan(theta) < 0.0)
+    fail(where, "the frustum closes below the given height (negative top apothem)");
+  return lateral_area(bottom_apothem, opening_angle_deg, segments, height);
+}
+
+double wetted_side_area(const SceneDef& scene, const State& state, double height) {
+  const ContainerDef& c = scene.container;
+  if (c.type != ContainerDef::Type::Cone || height <= 0.0) return 0.0;
+  return lateral_area(state.s_c * c.bottom_radius, c.opening_angle_deg, c.segments, height);
+}
+
+double side_wall_pressure(const SceneDef& scene, const State& state, double side_force) {
+  const double area = wetted_side_area(scene, state, bed_height(scene, state));
+  return area > 0.0 ? side_force / area : 0.0;
 }
 
 WallLoad wall_load(const std::vector<double>& segment_force, double bottom_force, double bottom_apothem,

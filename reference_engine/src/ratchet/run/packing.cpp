@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "ratchet/io/state_file.hpp"
+#include "ratchet/observe/energy.hpp"
 #include "ratchet/run/runner.hpp"
 
 namespace ratchet {
@@ -108,7 +109,7 @@ void SettleMonitor::after_step(World& world) {
 }
 
 void SettleMonitor::observe(const World& world) {
-  ke_ = world.kinetic_energy();
+  ke_ = kinetic_energy(world.scene(), world.state());
   peak_ = std::max(peak_, ke_);
   t_ = world.state().t;
   step_ = world.state().step;
@@ -153,7 +154,7 @@ json settle_world(World& world, const std::function<void(const World&)>& each_st
   SettleMonitor monitor(world);
   while (!monitor.done()) {
     world.step();
-    if (!std::isfinite(world.kinetic_energy()))
+    if (!std::isfinite(kinetic_energy(world.scene(), world.state())))
       throw RunError(s.source + ": the state became non-finite at step " + std::to_string(world.state().step) +
                      " (t = " + std::to_string(world.state().t) + ") while settling; the time step may be too large");
     monitor.after_step(world);

@@ -5,10 +5,12 @@
 #include <cstdio>
 #include <memory>
 #include <optional>
+#include <vector>
 
-#include "ratchet/io/run_output.hpp"
+#include "ratchet/observe/energy.hpp"
 #include "ratchet/run/observers.hpp"
 #include "ratchet/run/packing.hpp"
+#include "ratchet/run/run_output.hpp"
 
 namespace ratchet {
 
@@ -28,7 +30,16 @@ RunResult run_world(World& world, const RunOptions& options, const std::function
   const SceneDef& scene = world.scene();  // its end and start_time move when a settle section's stage ends
   RunObservers observers(world, options.out_dir);
   std::unique_ptr<RunOutput> out;
-  if (!options.out_dir.empty()) out = std::make_unique<RunOutput>(options.out_dir, world, observers);
+  std::vector<double> extra;  // the observers' columns of a timeseries row
+  auto write_row = [&]() {
+    observers.extra_values(world, extra);
+    out->write_timeseries_row(world, extra);
+  };
+  if (!options.out_dir.empty()) {
+    out = std::make_unique<RunOutput>(options.out_dir, observers.extra_columns());
+    write_row();
+    out->write_bodies(world);
+  }
   const auto start = std::chrono::steady_clock::now();
   auto last_print = start;
   const int every_ts = scene.outputs.timeseries_every;
@@ -41,7 +52,7 @@ RunResult run_world(World& world, const RunOptions& options, const std::function
     while (world.state().step < scene.steps) {
       world.step();
       const std::int64_t k = world.state().step;
-      const double ke = world.kinetic_energy();
+      const double ke = kinetic_energy(world.scene(), world.state());
       if (!std::isfinite(ke))
         throw RunError(scene.source + ": the state became non-finite at step " + std::to_string(k) +
                        " (t = " + std::to_string(world.state().t) + "); the time step may be too large");
@@ -50,7 +61,7 @@ RunResult run_world(World& world, const RunOptions& options, const std::function
       observers.after_step(world);
       const std::int64_t total = scene.steps;
       if (out) {
-        if (k % every_ts == 0 || k == total) out->write_timeseries_row(world);
+        if (k % every_ts == 0 || k == total) write_row();
         if ((every_bodies > 0 && k % every_bodies == 0) || k == total) out->write_bodies(world);
       }
       if (each_step) each_step(world);

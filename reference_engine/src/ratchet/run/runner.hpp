@@ -1,4 +1,4 @@
-// Runs a scene to its end, writing the run's files (io/run_output.hpp), with an
+// Runs a scene to its end, writing the run's files (run/run_output.hpp), with an
 // optional progress line. Used by `ratchet run` and by the tests.
 #pragma once
 

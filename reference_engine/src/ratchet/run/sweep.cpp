@@ -14,9 +14,9 @@
 #endif
 
 #include "ratchet/io/atomic_file.hpp"
-#include "ratchet/io/run_output.hpp"
 #include "ratchet/io/state_file.hpp"
 #include "ratchet/run/packing.hpp"
+#include "ratchet/run/run_output.hpp"
 #include "ratchet/run/runner.hpp"
 #include "ratchet/scene/scene.hpp"
 

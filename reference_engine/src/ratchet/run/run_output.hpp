@@ -1,32 +1,34 @@
 // The files of one run (docs/output-format.md): timeseries.csv, bodies.csv, run.json.
 // CSVs are written as they grow under ".partial" names and renamed at the end; run.json
 // is written last, so its presence with "status": "completed" marks a finished run.
+// The observers' optional columns come in as names and values (run/observers.hpp).
 #pragma once
 
 #include <memory>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
 #include "ratchet/io/atomic_file.hpp"
-#include "ratchet/run/observers.hpp"
 #include "ratchet/world/world.hpp"
 
 namespace ratchet {
 
 class RunOutput {
  public:
-  RunOutput(const std::string& dir, const World& world, const RunObservers& observers);
-  void write_timeseries_row(const World& world);
+  // Creates `dir`, removes an old run.json and writes the CSV headers; extra_columns
+  // follow the fixed timeseries columns. Rows are written by the caller, step 0 included.
+  RunOutput(const std::string& dir, const std::vector<std::string>& extra_columns);
+  // One timeseries row; `extra` holds one value per extra column, in their order.
+  void write_timeseries_row(const World& world, const std::vector<double>& extra);
   void write_bodies(const World& world);
   // Renames the CSVs into place and writes run.json with the given summary.
   void finish(const World& world, const nlohmann::json& summary);
 
  private:
   std::string dir_;
-  const RunObservers& observers_;
   std::unique_ptr<AtomicFile> timeseries_, bodies_;
-  mutable std::vector<double> extra_;
 };
 
 // Run metadata: scene as run, hash, engine version, effects, plan, timings.

@@ -1,7 +1,11 @@
-#include "ratchet/io/run_output.hpp"
+#include "ratchet/run/run_output.hpp"
 
 #include <cstdio>
 #include <filesystem>
+
+#include "ratchet/observe/bed_geometry.hpp"
+#include "ratchet/observe/energy.hpp"
+#include "ratchet/observe/wall_pressure.hpp"
 
 namespace ratchet {
 
@@ -11,8 +15,7 @@ std::string format_double(double x) {
   return buf;
 }
 
-RunOutput::RunOutput(const std::string& dir, const World& world, const RunObservers& observers)
-    : dir_(dir), observers_(observers) {
+RunOutput::RunOutput(const std::string& dir, const std::vector<std::string>& extra_columns) : dir_(dir) {
   std::filesystem::create_directories(dir_);
   std::filesystem::remove(dir_ + "/run.json");  // an old run.json would make this look complete
   timeseries_ = std::make_unique<AtomicFile>(dir_ + "/timeseries.csv");
@@ -21,25 +24,24 @@ RunOutput::RunOutput(const std::string& dir, const World& world, const RunObserv
   ts << "step,t,T,s_p,s_c,kinetic_energy,contacts,iterations,residual,wall_force_side,wall_force_bottom,"
         "wall_force_total,bed_height,pressure";
   for (const char* name : kPhaseNames) ts << ",time_" << name;
-  for (const std::string& name : observers_.extra_columns()) ts << ',' << name;
+  for (const std::string& name : extra_columns) ts << ',' << name;
   ts << "\n";
   bodies_->stream() << "step,t,id,x,y,z,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz,scale\n";
-  write_timeseries_row(world);
-  write_bodies(world);
 }
 
-void RunOutput::write_timeseries_row(const World& world) {
+void RunOutput::write_timeseries_row(const World& world, const std::vector<double>& extra) {
+  const SceneDef& sc = world.scene();
   const State& s = world.state();
   const StepStats& st = world.stats();
   auto& o = timeseries_->stream();
-  const double H = world.bed_height();
+  const double H = bed_height(sc, s);
   o << s.step << ',' << format_double(s.t) << ',' << format_double(s.T) << ',' << format_double(s.s_p) << ','
-    << format_double(s.s_c) << ',' << format_double(world.kinetic_energy()) << ',' << st.contacts << ','
+    << format_double(s.s_c) << ',' << format_double(kinetic_energy(sc, s)) << ',' << st.contacts << ','
     << st.iterations << ',' << format_double(st.residual) << ',' << format_double(st.wall_force_side) << ','
-    << format_double(st.wall_force_bottom) << ',' << format_double(st.wall_force_total) << ',' << format_double(H) << ',' << format_double(world.pressure());
+    << format_double(st.wall_force_bottom) << ',' << format_double(st.wall_force_total) << ',' << format_double(H)
+    << ',' << format_double(side_wall_pressure(sc, s, st.wall_force_side));
   for (double t : world.timers().last_step) o << ',' << format_double(t);
-  observers_.extra_values(world, extra_);
-  for (double v : extra_) o << ',' << format_double(v);
+  for (double v : extra) o << ',' << format_double(v);
   o << '\n';
 }
 

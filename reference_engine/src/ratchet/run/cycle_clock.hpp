@@ -1,0 +1,64 @@
+// Where a run is in its thermal protocol (docs/output-format.md, "Thermal cycles, stage
+// ends and snapshots"): the settle stage, the start of cycling, the cycle of each state
+// and the stage marks a step crosses. The accumulators of run/observers.hpp act on its
+// ticks and keep no clock of their own.
+#pragma once
+
+#include "ratchet/scene/scene.hpp"
+
+namespace ratchet {
+
+// A stage mark (end of heating, of cooling, of a cycle) counts as reached by a state
+// within kStageMarkTol h below it. t is accumulated step by step (t += h), so after N
+// steps it is off the exact N h by up to N ulp(t): 17,000 steps of h = 0.004 from
+// t = 20 left the end of the last cycle 9e-12 = 2.2e-9 h short, and 1e-9 h missed it
+// (no last cycle-end snapshot, no W_rms of the windows ending there). 1e-4 h covers
+// the worst case of the paper tier (140,000 steps to t = 560: 2e-6 h) with a margin,
+// and is far below the step, so no mark moves to another step.
+constexpr double kStageMarkTol = 1e-4;
+
+// Stage marks crossed by the step from t_prev to t (several at once when a hold has
+// zero length).
+struct StageEnds {
+  bool heating = false, cooling = false, cycle = false;
+};
+
+// What one state means for the protocol. All false / -1 in a run without thermal cycles.
+struct ClockTick {
+  double t_prev = 0.0, t = 0.0;  // the previous state's time and this one's
+  bool settling = false;         // the settle stage is still on at this state
+  bool settle_ended = false;     // a settle section's stage ended at this state
+  bool before_cycling = false;   // cycling had not started at the previous state
+  bool cycling_starts = false;   // this state is the start of cycling (once per run)
+  int cycle = -1;                // the cycle this state belongs to, or -1 outside the cycles
+  StageEnds ends;                // marks crossed since the previous state (cycle >= 0 only)
+};
+
+class CycleClock {
+ public:
+  // At the run's first state: time t0, `settling` as World::settling().
+  CycleClock(const SceneDef& scene, double t0, bool settling);
+
+  bool thermal() const { return thermal_; }
+  // The first state already is the start of cycling or past it (start_time 0, or a
+  // packing that ends at start_time).
+  bool started_at_first_state() const { return started_at_first_; }
+  int cycles_reached() const { return cycles_reached_; }
+
+  // After each step, with the new state's time and World::settling().
+  ClockTick tick(double t, bool settling);
+
+  // Marks crossed between t_prev and t.
+  StageEnds stage_ends(double t_prev, double t) const;
+
+ private:
+  const SceneDef& scene_;
+  bool thermal_ = false;
+  bool started_ = false;         // the start of cycling has been reached
+  bool started_at_first_ = false;
+  bool settle_pending_ = false;  // a settle section's stage has not ended yet
+  double t_prev_ = 0.0;
+  int cycles_reached_ = 0;
+};
+
+}  // namespace ratchet

@@ -1,0 +1,43 @@
+#include "ratchet/run/pressure_peaks.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "ratchet/observe/wall_pressure.hpp"
+
+namespace ratchet {
+
+void PressurePeaks::after_step(const World& world, const ClockTick& tick) {
+  if (tick.cycle < 0) return;
+  const int k = tick.cycle;
+  while (static_cast<int>(peaks_.size()) <= k)
+    peaks_.push_back({static_cast<int>(peaks_.size()), -HUGE_VAL, 0.0});
+  CyclePeak& c = peaks_[static_cast<std::size_t>(k)];
+  const double dt = scene_.dt;
+  if (block_cycle_ != k) { block_sum_ = 0.0; block_time_ = 0.0; block_start_ = tick.t_prev; block_cycle_ = k; }
+  block_sum_ += side_wall_pressure(world.scene(), world.state(), world.stats().wall_force_side) * dt;
+  block_time_ += dt;
+  if (block_time_ >= scene_.outputs.pressure_window - 1e-9 * dt) {
+    const double P = block_sum_ / block_time_;
+    if (P > c.value) { c.value = P; c.time = 0.5 * (block_start_ + tick.t); }
+    block_sum_ = 0.0;
+    block_time_ = 0.0;
+    block_start_ = tick.t;
+  }
+}
+
+void PressurePeaks::summarize(int cycles_reached, nlohmann::json& summary) const {
+  // Steady-state window: the scene's, or the second half of the cycles.
+  const OutputSettings& o = scene_.outputs;
+  const int n = cycles_reached;
+  const int first = o.steady_first >= 0 ? o.steady_first : scene_.thermal.cycles / 2;
+  const int last = o.steady_last >= 0 ? o.steady_last : scene_.thermal.cycles - 1;
+  const std::vector<CyclePeak> reached(peaks_.begin(), peaks_.begin() + std::min<std::ptrdiff_t>(n, peaks_.size()));
+  MeanPeak mp;
+  if (n > 0 && first <= std::min(last, n - 1)) mp = mean_peak(reached, first, std::min(last, n - 1));
+  summary["P_max"] = mp.count > 0 ? nlohmann::json(mp.mean) : nlohmann::json(nullptr);
+  summary["P_max_std"] = std::isfinite(mp.stddev) ? nlohmann::json(mp.stddev) : nlohmann::json(nullptr);
+  summary["steady_cycles"] = {first, last};
+}
+
+}  // namespace ratchet

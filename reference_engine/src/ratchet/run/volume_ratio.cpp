@@ -1,0 +1,33 @@
+#include "ratchet/run/volume_ratio.hpp"
+
+#include "ratchet/observe/bed_volume.hpp"
+
+namespace ratchet {
+
+VolumeRatio::VolumeRatio(const World& world) : enabled_(world.scene().outputs.volume) {
+  if (enabled_) v0_ = bed_volume(world.scene(), world.state());
+}
+
+double VolumeRatio::ratio(const World& world) const { return bed_volume(world.scene(), world.state()) / v0_; }
+
+void VolumeRatio::after_step(const World& world, const ClockTick& tick) {
+  if (!enabled_) return;
+  // V0 is the settled bed: where a settle section's stage ends (the packing's state, so
+  // a run from the packing has the same V0); without one, where cycling starts.
+  if (tick.settle_ended) v0_ = bed_volume(world.scene(), world.state());
+  if (tick.cycling_starts && !world.scene().settle.enabled) v0_ = bed_volume(world.scene(), world.state());
+  if (tick.cycle < 0) return;
+  const std::size_t k = static_cast<std::size_t>(tick.cycle);
+  if (v_heat_.size() <= k) {
+    v_heat_.resize(k + 1, NAN);
+    v_cool_.resize(k + 1, NAN);
+  }
+  if (tick.ends.heating) v_heat_[k] = ratio(world);
+  if (tick.ends.cooling) v_cool_[k] = ratio(world);
+}
+
+void VolumeRatio::summarize(const World& world, nlohmann::json& summary) const {
+  if (enabled_) summary["V_over_V0_end"] = ratio(world);
+}
+
+}  // namespace ratchet

@@ -1,0 +1,85 @@
+// Placed bodies, bed points and bed height: spheres at the particle scale, polyhedra
+// rotated, fixed bodies left out, and the bed height of the highest point.
+#include "ratchet/observe/bed_geometry.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace ratchet {
+namespace {
+
+using nlohmann::json;
+
+// A sphere and a unit cube (centroid at the origin of its points).
+SceneDef sphere_and_cube() {
+  return build_scene(json::parse(R"({
+    "name": "bed", "time": {"dt": 0.01, "duration": 1.0},
+    "particles": {"bodies": [
+      {"shape": "sphere", "radius": 0.5, "position": [0, 0, 1]},
+      {"shape": "polyhedron", "position": [3, 0, 2],
+       "vertices": [[-0.5,-0.5,-0.5],[0.5,-0.5,-0.5],[-0.5,0.5,-0.5],[0.5,0.5,-0.5],
+                    [-0.5,-0.5,0.5],[0.5,-0.5,0.5],[-0.5,0.5,0.5],[0.5,0.5,0.5]]}]}
+  })"),
+                     "bed.json");
+}
+
+State state_of(const SceneDef& s) {
+  State st;
+  for (const BodyDef& b : s.bodies) {
+    st.x.push_back(b.position);
+    st.q.push_back(b.orientation);
+    st.v.push_back(Vec3::Zero());
+    st.w.push_back(Vec3::Zero());
+  }
+  return st;
+}
+
+TEST(BedGeometry, SpherePointsLieOnItsScaledSurface) {
+  const SceneDef s = sphere_and_cube();
+  State st = state_of(s);
+  st.s_p = 1.2;
+  PlacedBody p;
+  place_body(s, st, 0, p);
+  ASSERT_EQ(p.points.size(), 14u);
+  EXPECT_EQ(p.faces, nullptr);
+  EXPECT_DOUBLE_EQ(p.sphere_radius, 0.6);
+  for (const Vec3& q : p.points) EXPECT_NEAR((q - Vec3(0, 0, 1)).norm(), 0.6, 1e-15);
+}
+
+TEST(BedGeometry, PolyhedronPointsAreItsRotatedVertices) {
+  const SceneDef s = sphere_and_cube();
+  State st = state_of(s);
+  // A quarter turn about x: the cube's vertices stay at +-0.5 about its centre.
+  st.q[1] = Quat(Eigen::AngleAxisd(M_PI / 2, Vec3::UnitX())) * st.q[1];
+  PlacedBody p;
+  place_body(s, st, 1, p);
+  ASSERT_EQ(p.points.size(), 8u);
+  ASSERT_NE(p.faces, nullptr);
+  EXPECT_EQ(p.sphere_radius, 0.0);
+  EXPECT_EQ(p.faces->size(), s.shapes[static_cast<std::size_t>(s.bodies[1].shape)].faces.size());
+  for (const Vec3& q : p.points) {
+    const Vec3 d = q - Vec3(3, 0, 2);
+    for (int k = 0; k < 3; ++k) EXPECT_NEAR(std::abs(d[k]), 0.5, 1e-12) << k;
+  }
+}
+
+TEST(BedGeometry, BedHeightIsTheHighestPointOfTheMovingBodies) {
+  SceneDef s = sphere_and_cube();
+  State st = state_of(s);
+  EXPECT_NEAR(bed_height(s, st), 2.5, 1e-12);  // the cube's top face
+  EXPECT_EQ(bed_points(s, st).size(), 14u + 8u);
+  s.bodies[1].fixed = true;  // a fixed body is not bed
+  EXPECT_EQ(bed_height(s, st), 1.5);
+  EXPECT_EQ(bed_points(s, st).size(), 14u);
+  st.s_p = 2.0;  // the sphere's top at z + s_p r
+  EXPECT_EQ(bed_height(s, st), 2.0);
+  EXPECT_EQ(body_scale(s, st, 0), 2.0);
+  EXPECT_EQ(body_scale(s, st, 1), 1.0);  // fixed bodies keep scale 1
+  st.x[0] = Vec3(0, 0, -5);  // below the floor: never below 0
+  EXPECT_EQ(bed_height(s, st), 0.0);
+}
+
+}  // namespace
+}  // namespace ratchet

@@ -1,0 +1,84 @@
+// run_world: every step once, rows at the asked-for steps and the last one, the
+// summary in run.json, and RunError (no run.json) when the state stops being finite.
+#include "ratchet/run/runner.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+namespace ratchet {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+std::vector<std::string> lines_of(const fs::path& p) {
+  std::ifstream in(p);
+  std::vector<std::string> out;
+  for (std::string l; std::getline(in, l);) out.push_back(l);
+  return out;
+}
+
+// Two spheres falling onto a floor: 10 steps.
+SceneDef falling() {
+  return build_scene(json::parse(R"({
+    "name": "fall", "time": {"dt": 0.01, "duration": 0.1},
+    "container": {"type": "planes", "planes": [{"normal": [0, 0, 1], "point": [0, 0, 0]}]},
+    "particles": {"bodies": [{"shape": "sphere", "radius": 0.5, "position": [0, 0, 0.6]},
+                             {"shape": "sphere", "radius": 0.5, "position": [2, 0, 3]}]},
+    "outputs": {"timeseries_every": 3, "volume": false}
+  })"),
+                     "fall.json");
+}
+
+fs::path scratch(const std::string& name) {
+  const fs::path d = fs::temp_directory_path() / ("ratchet_runner_" + name);
+  fs::remove_all(d);
+  return d;
+}
+
+TEST(RunWorld, StepsToTheEndCallingBackEachStep) {
+  World world(falling());
+  ASSERT_EQ(world.scene().steps, 10);
+  std::vector<std::int64_t> seen;
+  const RunResult r = run_world(world, RunOptions{}, [&](const World& w) { seen.push_back(w.state().step); });
+  EXPECT_EQ(r.steps, 10);
+  ASSERT_EQ(seen.size(), 10u);
+  for (std::size_t i = 0; i < seen.size(); ++i) EXPECT_EQ(seen[i], static_cast<std::int64_t>(i + 1));
+  EXPECT_LT(world.state().x[1].z(), 3.0);  // it fell
+  EXPECT_TRUE(r.settle.is_null());         // no thermal section, no settle stage
+}
+
+TEST(RunWorld, RowsAtEveryNthStepAndTheLast) {
+  const fs::path d = scratch("rows");
+  World world(falling());
+  RunOptions opt;
+  opt.out_dir = d.string();
+  const RunResult r = run_world(world, opt);
+  std::vector<std::string> steps;
+  for (const std::string& row : lines_of(d / "timeseries.csv")) steps.push_back(row.substr(0, row.find(',')));
+  EXPECT_EQ(steps, (std::vector<std::string>{"step", "0", "3", "6", "9", "10"}));
+  EXPECT_EQ(lines_of(d / "bodies.csv").size(), 1u + 2u * 2u);  // first and last snapshots
+  std::ifstream in(d / "run.json");
+  const json meta = json::parse(in);
+  EXPECT_EQ(meta.at("status"), "completed");
+  EXPECT_EQ(meta.at("steps"), 10);
+  EXPECT_EQ(meta.at("summary"), r.summary);
+  fs::remove_all(d);
+}
+
+TEST(RunWorld, NonFiniteStateIsARunError) {
+  const fs::path d = scratch("nan");
+  World world(falling());
+  world.mutable_state().v[1] = Vec3(0.0, 0.0, std::nan(""));
+  RunOptions opt;
+  opt.out_dir = d.string();
+  EXPECT_THROW(run_world(world, opt), RunError);
+  EXPECT_FALSE(fs::exists(d / "run.json"));  // the run does not look complete
+  fs::remove_all(d);
+}
+
+}  // namespace
+}  // namespace ratchet

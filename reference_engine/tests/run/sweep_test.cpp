@@ -1,0 +1,126 @@
+// Sweep plans: the grid's cartesian product (last key fastest, seeds innermost), seeds
+// versus realizations, the scene of each run, packings shared by the runs that differ
+// only in what the packing key leaves out, rejected sweep files, and the completion test.
+#include "ratchet/run/sweep.hpp"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "ratchet/scene/scene.hpp"
+
+namespace ratchet {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+using ::testing::HasSubstr;
+
+const json kScene = json::parse(R"({
+  "name": "s", "time": {"dt": 0.01},
+  "container": {"type": "cone", "bottom_radius": 2.0},
+  "particles": {"bodies": [{"shape": "sphere", "radius": 0.5, "position": [0, 0, 0.5]}]},
+  "thermal": {"start_time": 1.0, "heat_time": 0.5, "cycles": 1}
+})");
+
+struct Dir {
+  fs::path path;
+  explicit Dir(const std::string& name) : path(fs::temp_directory_path() / ("ratchet_sweep_" + name)) {
+    fs::remove_all(path);
+    fs::create_directories(path);
+  }
+  ~Dir() { fs::remove_all(path); }
+  std::string write(const json& sweep) const {
+    const fs::path p = path / "sweep.json";
+    std::ofstream(p) << sweep.dump(2);
+    return p.string();
+  }
+};
+
+TEST(LoadSweep, GridTimesRealizationsInOdometerOrder) {
+  Dir dir("grid");
+  const json sweep = {{"scene", kScene},
+                      {"grid", {{"thermal.alpha_p", {1e-4, 2e-4}}, {"solver.tolerance", {1e-3, 1e-4, 1e-5}}}},
+                      {"realizations", 2}};
+  const SweepPlan plan = load_sweep(dir.write(sweep), (dir.path / "out").string());
+  EXPECT_EQ(plan.grid_keys, (std::vector<std::string>{"solver.tolerance", "thermal.alpha_p"}));  // sorted keys
+  ASSERT_EQ(plan.runs.size(), 3u * 2u * 2u);
+  for (std::size_t i = 0; i < plan.runs.size(); ++i) {
+    const SweepRun& r = plan.runs[i];
+    EXPECT_EQ(r.id, static_cast<int>(i));
+    EXPECT_EQ(r.seed, 1u + i % 2);  // seeds innermost
+    ASSERT_EQ(r.params.size(), 2u);
+    const double tol = r.params[0].second.get<double>(), alpha = r.params[1].second.get<double>();
+    EXPECT_EQ(alpha, i / 2 % 2 == 0 ? 1e-4 : 2e-4);     // the last key turns fastest
+    const std::vector<double> tolerances = {1e-3, 1e-4, 1e-5};
+    EXPECT_EQ(tol, tolerances[i / 4]);
+    EXPECT_EQ(r.scene.at("solver").at("tolerance"), tol);
+    EXPECT_EQ(r.scene.at("thermal").at("alpha_p"), alpha);
+    EXPECT_EQ(r.scene.at("seed"), r.seed);
+  }
+  EXPECT_EQ(run_dir(plan, 5), (dir.path / "out").string() + "/runs/5");
+  EXPECT_EQ(packing_path(plan, "abc"), (dir.path / "out").string() + "/packings/abc.state");
+}
+
+// alpha_p cannot act before the settle stage ends: one packing per (tolerance, seed).
+TEST(LoadSweep, RunsShareThePackingTheirKeyAllows) {
+  Dir dir("packings");
+  const json sweep = {{"scene", kScene},
+                      {"grid", {{"thermal.alpha_p", {1e-4, 2e-4}}, {"solver.tolerance", {1e-3, 1e-4}}}},
+                      {"seeds", {7, 9}}};
+  const SweepPlan plan = load_sweep(dir.write(sweep), dir.path.string());
+  ASSERT_EQ(plan.runs.size(), 8u);
+  EXPECT_EQ(plan.runs[0].seed, 7u);
+  EXPECT_EQ(plan.runs[1].seed, 9u);
+  ASSERT_EQ(plan.packings.size(), 4u);
+  // Run ids 0..7: tolerance (slow), alpha_p, seed (fast); the packing of (tol, seed) is
+  // shared by the two alpha_p values.
+  EXPECT_EQ(plan.packings[0].runs, (std::vector<int>{0, 2}));
+  EXPECT_EQ(plan.packings[1].runs, (std::vector<int>{1, 3}));
+  EXPECT_EQ(plan.packings[2].runs, (std::vector<int>{4, 6}));
+  EXPECT_EQ(plan.packings[3].runs, (std::vector<int>{5, 7}));
+  for (const SweepPacking& p : plan.packings) EXPECT_FALSE(packing_ready(plan, p));
+  EXPECT_EQ(needed_packings(plan), (std::vector<int>{0, 1, 2, 3}));
+}
+
+TEST(LoadSweep, RejectsBadSweepsBeforeWritingAnything) {
+  Dir dir("bad");
+  const std::string out = (dir.path / "out").string();
+  auto message = [&](const json& sweep) {
+    try {
+      load_sweep(dir.write(sweep), out);
+    } catch (const SceneError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_THAT(message({{"scene", kScene}, {"grids", json::object()}}), HasSubstr("'grids': unknown field"));
+  EXPECT_THAT(message({{"grid", json::object()}}), HasSubstr("'scene'"));
+  EXPECT_THAT(message({{"scene", kScene}, {"grid", {{"time.dt", json::array()}}}}), HasSubstr("grid.time.dt"));
+  EXPECT_THAT(message({{"scene", kScene}, {"realizations", 0}}), HasSubstr("realizations"));
+  EXPECT_THAT(message({{"scene", kScene}, {"seeds", {1, -2}}}), HasSubstr("seeds"));
+  // A bad value in the second grid point names its run.
+  EXPECT_THAT(message({{"scene", kScene}, {"grid", {{"time.dt", {0.01, -1.0}}}}}), HasSubstr("(in run 1 of sweep"));
+  EXPECT_FALSE(fs::exists(out));
+}
+
+TEST(RunCompleted, OnlyACompletedRunJsonOfTheSameScene) {
+  Dir dir("completed");
+  const SweepPlan plan = load_sweep(dir.write({{"scene", kScene}, {"realizations", 1}}), dir.path.string());
+  ASSERT_EQ(plan.runs.size(), 1u);
+  const SweepRun& run = plan.runs[0];
+  EXPECT_FALSE(run_completed(plan, run));
+  fs::create_directories(run_dir(plan, 0));
+  auto write = [&](const json& j) { std::ofstream(run_dir(plan, 0) + "/run.json") << j.dump(); };
+  write({{"status", "completed"}, {"scene_hash", fnv1a_hex(run.scene.dump())}});
+  EXPECT_TRUE(run_completed(plan, run));
+  write({{"status", "completed"}, {"scene_hash", "0000000000000000"}});  // another scene
+  EXPECT_FALSE(run_completed(plan, run));
+  write({{"status", "running"}, {"scene_hash", fnv1a_hex(run.scene.dump())}});
+  EXPECT_FALSE(run_completed(plan, run));
+}
+
+}  // namespace
+}  // namespace ratchet
