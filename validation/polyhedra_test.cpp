@@ -17,6 +17,8 @@
 
 #include "ratchet/run/runner.hpp"
 #include "ratchet/scene/scene.hpp"
+#include "ratchet/observe/bed_geometry.hpp"
+#include "ratchet/observe/energy.hpp"
 #include "ratchet/world/world.hpp"
 #include "support/check_record.hpp"
 
@@ -234,7 +236,7 @@ TEST(PolyhedraPour, SettlesInsideTheCylinderWithoutDeepOverlaps) {
     sweeps[stage] += w.stats().iterations;
     ++steps[stage];
     if (!w.stats().converged) ++unconverged[stage];
-    ke = w.kinetic_energy();
+    ke = kinetic_energy(w.scene(), w.state());
     peak = std::max(peak, ke);
     max_outside = std::max(max_outside, count_outside(w));
     for (const SolverContact& s : w.contacts()) max_overlap_run = std::max(max_overlap_run, -s.geometry.gap);
@@ -306,7 +308,7 @@ TEST(PolyhedraPour, SettlesInsideTheCylinderWithoutDeepOverlaps) {
   EXPECT_TRUE(validation::check_le(c, "max overlap with the walls (-gap) at the end", max_wall_overlap, 0.01 * r_min,
                                    "brief: 1 % of r_min = 0.005"));
   std::printf("[pour] contacts %zu (pairs %d), max overlap pair %.3e wall %.3e, bed height %.3f\n",
-              world.contacts().size(), pair_contacts, max_pair_overlap, max_wall_overlap, world.bed_height());
+              world.contacts().size(), pair_contacts, max_pair_overlap, max_wall_overlap, bed_height(world.scene(), world.state()));
 }
 
 }  // namespace

@@ -26,6 +26,7 @@
 #include "bench_bed.hpp"
 #include "ratchet/io/state_file.hpp"
 #include "ratchet/scene/scene.hpp"
+#include "ratchet/observe/energy.hpp"
 #include "ratchet/world/world.hpp"
 
 namespace {
@@ -113,7 +114,7 @@ int main(int argc, char** argv) {
     }
     std::printf("%d %d %zu %d %zu %d %d %d %.3e %.3e %.3e %d %d\n", k, world.stats().iterations, world.contacts().size(),
                 active, kept.size(), hits, missed, overlaps, overlaps > 0 ? depth / overlaps : 0.0, min_gap,
-                peak > 0.0 ? world.kinetic_energy() / peak : 0.0, min_a, min_b);
+                peak > 0.0 ? kinetic_energy(world.scene(), world.state()) / peak : 0.0, min_a, min_b);
     if (watch >= 0) {
       const State& st = world.state();
       const auto w = static_cast<std::size_t>(watch);

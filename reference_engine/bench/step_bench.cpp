@@ -55,6 +55,7 @@
 #include "bench_bed.hpp"
 #include "ratchet/io/state_file.hpp"
 #include "ratchet/scene/scene.hpp"
+#include "ratchet/observe/energy.hpp"
 #include "ratchet/world/world.hpp"
 
 namespace {
@@ -139,7 +140,7 @@ State pour_and_settle(int n, SettleInfo& info) {
                cylinder_radius(n), z_top, t_landed);
   while (world.state().t < t_cap) {
     world.step();
-    ke = world.kinetic_energy();
+    ke = kinetic_energy(world.scene(), world.state());
     peak = std::max(peak, ke);
     if (world.state().t > t_landed && ke < kKeRatio * peak) break;
     if (world.state().step % 250 == 0)
@@ -190,7 +191,7 @@ int bring_to_rest(World& world, const SettleInfo& info, int min_steps, int quenc
     ++k;
     if (k % 250 == 0)  // progress: a long rest of a large bed takes many minutes
       std::fprintf(stderr, "  resting: step %d, KE/peak = %.2e, %d sweeps (%.0f s)\n", k,
-                   world.kinetic_energy() / info.peak, world.stats().iterations,
+                   kinetic_energy(world.scene(), world.state()) / info.peak, world.stats().iterations,
                    std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count());
     if (k <= quench) {
       State& s = world.mutable_state();
@@ -200,7 +201,7 @@ int bring_to_rest(World& world, const SettleInfo& info, int min_steps, int quenc
     }
     // At rest for kRestWindow steps in a row: right after the quench every bed looks
     // static, and bodies the quench stopped short of equilibrium move off only later.
-    const bool at_rest = world.kinetic_energy() < kRestKeRatio * info.peak && world.stats().iterations <= kRestSweeps;
+    const bool at_rest = kinetic_energy(world.scene(), world.state()) < kRestKeRatio * info.peak && world.stats().iterations <= kRestSweeps;
     resting = at_rest ? resting + 1 : 0;
     if (k >= min_steps && resting >= kRestWindow) break;
   }
@@ -242,7 +243,7 @@ Bed& settled_bed(int n) {
   if (rest_by_velocity) bed.world->mutable_state() = rest_world.state();
   std::fprintf(stderr,
                "step_bench: N = %d, %d steps at h = %g, tolerance 1e-4: KE/peak = %.2e, %d sweeps in the last (%.0f s)\n",
-               n, steps, kBenchDt, rest_world.kinetic_energy() / bed.info.peak, rest_world.stats().iterations,
+               n, steps, kBenchDt, kinetic_energy(rest_world.scene(), rest_world.state()) / bed.info.peak, rest_world.stats().iterations,
                std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count());
   if (steps > 1) {
     save_state(path, key, bed.world->state(), bed.info);
@@ -289,7 +290,7 @@ void run_steps(benchmark::State& st, Variant variant) {
   st.counters["time_per_body"] =
       benchmark::Counter(static_cast<double>(n) * k, benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
   st.counters["ns_per_solve"] = 1e9 * solve / solves;  // solve phase per local contact solve
-  st.counters["KE_ratio"] = world.kinetic_energy() / bed.info.peak;
+  st.counters["KE_ratio"] = kinetic_energy(world.scene(), world.state()) / bed.info.peak;
 }
 
 // Converged to tolerance 1e-4 (at most 1000 sweeps).

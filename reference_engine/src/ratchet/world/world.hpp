@@ -60,11 +60,7 @@ class World {
   const std::vector<SolverContact>& contacts() const { return scratch_.contacts; }
   std::vector<PlanItem> plan() const;
 
-  // Observables of the current state.
-  double kinetic_energy() const;
-  double bed_height() const;            // highest particle point above the floor
-  double wetted_side_area(double height) const;  // cone side walls from z = 0 to height
-  double pressure() const;              // wall_force_side / wetted side area (cone only)
+  // Observables of the current state are functions of (scene, state) in observe/.
   Vec3 wall_point(int wall) const;      // current point of a wall (container scale)
   double body_scale(int i) const;       // thermal scale of body i: s_p, or 1 for a fixed body
 
