@@ -1,5 +1,5 @@
 // Narrow phase for two convex polyhedra by the Common Plane (CP) method
-// (Cundall 1988; Nezami et al. 2004, 2006; design.md section 4).
+// (Cundall 1988; Nezami et al. 2004, 2006; docs/method.md section 3).
 //
 // Legend (the paper's symbols):
 //   n  unit normal of the common plane, from body B towards body A
@@ -14,7 +14,7 @@
 //   * overlap (origin in D): the separating-axis test over the facets of D, i.e. the
 //     face normals of A and B and the edge pairs whose Gauss-map arcs cross
 //     (Gregorius, GDC 2013, "The Separating Axis Test between Convex Polyhedra").
-//     Candidate axes are pruned with a rigorous bound (common_plane.cpp, SAT), and the
+//     Candidate axes are pruned with a rigorous bound (common_plane_search.cpp), and the
 //     bound is tight when a warm start supplies a near-optimal axis;
 //   * separation (origin outside D): GJK distance (Gilbert, Johnson & Keerthi 1988,
 //     IEEE J. Robotics Autom. 4(2)) with Johnson's sub-algorithm in the Voronoi-region
@@ -44,7 +44,7 @@ enum class PlaneFeature : std::int8_t {
 };
 
 // A proof, made at the step that last searched, that the cached facet of D is still the
-// best one at a later pose (common_plane.cpp, "Certificate"): the pose it was made at
+// best one at a later pose (common_plane_certificate.cpp): the pose it was made at
 // (B in A's frame), what the search bounded there, and the features that may span a
 // facet next to it. It never changes a result: a certified step returns what the
 // search would return, bit for bit; it only saves the search. Not written to state
@@ -97,8 +97,8 @@ CommonPlaneResult find_common_plane(const PolyhedronView& a, const PolyhedronVie
                                     CommonPlaneCache& cache);
 
 // Contact manifold: empty (count 0, returns false) when g > margin; otherwise the
-// corners of the contact region, at most 4 (see common_plane.cpp for the band and the
-// clipping). `plane`, if given, receives the common plane found.
+// corners of the contact region, at most 4 (see common_plane_region.cpp for the band
+// and the clipping). `plane`, if given, receives the common plane found.
 bool collide_polyhedra(const PolyhedronView& a, const PolyhedronView& b, double margin,
                        CommonPlaneCache& cache, ContactManifold& out,
                        CommonPlaneResult* plane = nullptr);
