@@ -31,14 +31,28 @@ bool AndersonMixer::mix(std::vector<SolverRow>& rows) {
   const bool restart = have_prev_ && fnorm > fnorm_prev_;
   if (restart) { count_ = 0; head_ = 0; ++restarts_; }
   if (have_prev_ && !restart && f_prev_.size() == n) {
-    if (dF_.size() < static_cast<std::size_t>(depth_)) { dF_.resize(static_cast<std::size_t>(depth_)); dG_.resize(dF_.size()); }
-    std::vector<double>& cf = dF_[static_cast<std::size_t>(head_)];
-    std::vector<double>& cg = dG_[static_cast<std::size_t>(head_)];
+    if (dF_.size() < static_cast<std::size_t>(depth_)) {
+      dF_.resize(static_cast<std::size_t>(depth_));
+      dG_.resize(dF_.size());
+      gram_ = Eigen::MatrixXd::Zero(depth_, depth_);
+    }
+    const int h = head_;
+    count_ = std::min(count_ + 1, depth_);
+    head_ = (head_ + 1) % depth_;
+    std::vector<double>& cf = dF_[static_cast<std::size_t>(h)];
+    std::vector<double>& cg = dG_[static_cast<std::size_t>(h)];
     cf.resize(n);
     cg.resize(n);
-    for (std::size_t i = 0; i < n; ++i) { cf[i] = f_[i] - f_prev_[i]; cg[i] = g_[i] - g_prev_[i]; }
-    head_ = (head_ + 1) % depth_;
-    count_ = std::min(count_ + 1, depth_);
+    // The new column and its row of the Gram matrix in one pass (the other entries
+    // are kept from earlier sweeps): 2m products per unknown instead of m^2 / 2.
+    double dots[kMaxDepth] = {};
+    for (std::size_t i = 0; i < n; ++i) {
+      const double c = f_[i] - f_prev_[i];
+      cf[i] = c;
+      cg[i] = g_[i] - g_prev_[i];
+      for (int b = 0; b < count_; ++b) dots[b] += c * (b == h ? c : dF_[static_cast<std::size_t>(b)][i]);
+    }
+    for (int b = 0; b < count_; ++b) { gram_(h, b) = dots[b]; gram_(b, h) = dots[b]; }
   }
   f_prev_ = f_;
   g_prev_ = g_;
@@ -48,21 +62,10 @@ bool AndersonMixer::mix(std::vector<SolverRow>& rows) {
   // Least squares by the normal equations of the m columns (m <= depth, small), summed
   // in a fixed order so the result does not depend on threads.
   const int m = count_;
-  Eigen::MatrixXd G(m, m);
-  Eigen::VectorXd r(m);
-  for (int a = 0; a < m; ++a) {
-    const std::vector<double>& ca = dF_[static_cast<std::size_t>(a)];
-    double ra = 0.0;
-    for (std::size_t i = 0; i < n; ++i) ra += ca[i] * f_[i];
-    r(a) = ra;
-    for (int b = 0; b <= a; ++b) {
-      const std::vector<double>& cb = dF_[static_cast<std::size_t>(b)];
-      double s = 0.0;
-      for (std::size_t i = 0; i < n; ++i) s += ca[i] * cb[i];
-      G(a, b) = s;
-      G(b, a) = s;
-    }
-  }
+  Eigen::VectorXd r = Eigen::VectorXd::Zero(m);
+  for (std::size_t i = 0; i < n; ++i)
+    for (int a = 0; a < m; ++a) r(a) += dF_[static_cast<std::size_t>(a)][i] * f_[i];
+  Eigen::MatrixXd G = gram_.topLeftCorner(m, m);
   // Tikhonov term relative to the Gram matrix's scale: keeps nearly parallel columns
   // (a slowly converging sweep repeats its direction) from blowing gamma up.
   G.diagonal().array() += 1e-10 * G.diagonal().maxCoeff() + 1e-300;

@@ -12,13 +12,16 @@
 
 #include <vector>
 
+#include <Eigen/Dense>
+
 #include "ratchet/solver/nsgs.hpp"
 
 namespace ratchet {
 
 class AndersonMixer {
  public:
-  explicit AndersonMixer(int depth) : depth_(depth) {}
+  static constexpr int kMaxDepth = 50;  // solver.anderson_depth's upper bound
+  explicit AndersonMixer(int depth) : depth_(depth < kMaxDepth ? depth : kMaxDepth) {}
 
   // Before a sweep: remembers the impulses x_k the sweep starts from.
   void begin(const std::vector<SolverRow>& rows);
@@ -34,6 +37,7 @@ class AndersonMixer {
   int depth_;
   std::vector<double> x_, f_prev_, g_prev_, f_, g_;
   std::vector<std::vector<double>> dF_, dG_;  // ring buffers of columns
+  Eigen::MatrixXd gram_;                      // dF^T dF of the ring's columns
   int count_ = 0, head_ = 0;
   bool have_prev_ = false;
   double fnorm_prev_ = 0.0;
