@@ -1,4 +1,4 @@
-// Validation 6: polyhedron-polyhedron contact (Common Plane method, design.md s. 4).
+// Validation 6: polyhedron-polyhedron contact (Common Plane method, docs/method.md s. 3).
 //   1. A box resting on a box: the face-face contact has exactly 4 points, carries the
 //      upper box's weight, and the box neither rocks nor drifts over 10^4 steps.
 //   2. 200 of the paper's polyhedra poured into a 16-sided cylinder settle until the
@@ -110,7 +110,7 @@ TEST_P(BoxOnBox, FourPointContactCarriesTheWeightWithoutRockingOrDrift) {
 
   const std::vector<SolverContact> cs = contacts_between(world, 0, 1);
   EXPECT_TRUE(validation::check_near(c, "contact points between the boxes", static_cast<double>(cs.size()), 4.0, 0.0,
-                                     "design.md s. 4: a face on a face gives the 4 corners of the contact region"));
+                                     "docs/method.md s. 3: a face on a face gives the 4 corners of the contact region"));
   double lambda_n = 0.0, max_abs_gap = 0.0, max_tilt = 0.0;
   for (const SolverContact& k : cs) {
     lambda_n += k.lambda[0];

@@ -1,4 +1,4 @@
-// Validation 1: the single expanding particle (design.md s. 2-3; issue "engine foundation").
+// Validation 1: the single expanding particle (docs/method.md s. 2 and "The step").
 // A particle resting on the floor through heat, hold, cool, hold: its centre height must
 // follow h0 (1 + alpha_p (T - T0)) because the expansion enters the contact kinematics as
 // a velocity (docs/method.md), return to h0, and the kinetic energy must stay at the

@@ -232,7 +232,7 @@ TEST(ConvexPolyhedron, RandomHullsAreClosedOutwardSurfaces) {
   }
 }
 
-// The certificate's data (common_plane.cpp): every face's own vertices lie on or inside
+// The certificate's data (contact/common_plane_certificate.cpp): every face's own vertices lie on or inside
 // its sides, its centroid strictly inside; a point pushed out across side k is outside
 // that side by the push; edge directions are unit and along their edges.
 TEST(ConvexPolyhedron, FaceSidesAndEdgeDirections) {

@@ -12,7 +12,7 @@ namespace ratchet {
 namespace {
 
 // A vertex within kPlaneBand r of the lowest one touches the plane (the contact band of
-// the Common Plane manifold, common_plane.cpp: a face tilted by less than ~1e-3 rad
+// the Common Plane manifold, common_plane_region.cpp: a face tilted by less than ~1e-3 rad
 // still lies on the plane); farther vertices within the margin are about to close.
 constexpr double kPlaneBand = 1e-3;
 

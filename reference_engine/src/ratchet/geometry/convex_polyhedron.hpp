@@ -24,7 +24,7 @@ struct ConvexPolyhedron {
   // reads it for every contact pair, and one indirection less saves cache misses.
   std::vector<int> vertex_face_start;
   std::vector<int> vertex_face_list;
-  // Read by the common-plane certificate (contact/common_plane.cpp), which proves that a
+  // Read by the common-plane certificate (contact/common_plane_certificate.cpp), which proves that a
   // contact facet stays the best one without a new search:
   //  * the sides of face f, one per vertex of faces[f] (side i runs from faces[f][i] to
   //    faces[f][i + 1]): in-plane outward unit normal and offset, so that a point x of

@@ -22,21 +22,21 @@ struct Effects {
   bool container_expansion = true;
 };
 
-// What a Gauss-Seidel sweep's change is measured against (design.md s. 3, item 4).
+// What a Gauss-Seidel sweep's change is measured against (docs/method.md s. 7).
 enum class Criterion {
   Impulse,   // ||d lambda|| / ||lambda||: the relative change of the contact impulses
   Velocity,  // the change of the body velocities in the kinetic-energy norm, relative to
              // the velocity the contact impulses give (blind to redundant impulses)
 };
 
-// How the Gauss-Seidel fixed point is reached (docs/method.md s. 4).
+// How the Gauss-Seidel fixed point is reached (docs/method.md s. 7).
 enum class Acceleration {
   None,      // plain sweeps
   Anderson,  // Anderson acceleration of the sweeps (solver/anderson.hpp)
 };
 
 struct SolverSettings {
-  double tolerance = 1e-4;  // on the criterion's relative change between sweeps (design.md s.3)
+  double tolerance = 1e-4;  // on the criterion's relative change between sweeps (docs/method.md s. 7)
   Criterion criterion = Criterion::Impulse;
   int max_iterations = 1000;
   Acceleration acceleration = Acceleration::None;
@@ -101,7 +101,7 @@ struct BodyDef {
   double bounding_radius = 0.0;   // at scale 1
 };
 
-// What a run records beyond the always-present timeseries (design.md s. 5). Each
+// What a run records beyond the always-present timeseries (docs/method.md s. 10). Each
 // observable is computed only when asked for.
 struct OutputSettings {
   int timeseries_every = 1;  // steps between rows of timeseries.csv

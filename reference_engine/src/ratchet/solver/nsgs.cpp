@@ -60,7 +60,7 @@ double velocity_change(const SolverBodies& B, const std::vector<Vec3>& v0, const
 }
 
 // Sweep the contacts, solve each exactly with the others frozen, apply the change at
-// once. The residual, by solver.criterion (docs/method.md s. 4):
+// once. The residual, by solver.criterion (docs/method.md s. 7):
 // - impulse: ||d lambda|| / ||lambda|| over the sweep;
 // - velocity: sqrt(dE_sweep / E_contact), dE_sweep the kinetic-energy norm of the
 //   sweep's change of the body velocities and E_contact that of the change the contact

@@ -2,7 +2,7 @@
 // with the exact local Coulomb solve (Jean 1999, "The non-smooth contact dynamics
 // method", CMAME 177, s. 4; Moreau 1994). Its interface is narrow on purpose:
 // solver rows (frames, lever-arm operators, Delassus blocks, biases) and the body
-// velocities in; impulses, sweep count and residual out. docs/method.md s. 4.
+// velocities in; impulses, sweep count and residual out. docs/method.md s. 7.
 #pragma once
 
 #include <cstdint>

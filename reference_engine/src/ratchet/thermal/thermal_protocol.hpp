@@ -1,7 +1,7 @@
 // Homogeneous temperature T(t) of the paper's thermal cycle (Iliev et al., Fig. 1c):
 // linear heating T0 -> T1, hold, linear cooling T1 -> T0, hold; repeated `cycles`
 // times, then T0. Scales: s_p = 1 + alpha_p (T - T0) for particles (paper eq. 2),
-// s_c = 1 + alpha_c (T - T0) for the container (design.md section 2).
+// s_c = 1 + alpha_c (T - T0) for the container (docs/method.md s. 2).
 #pragma once
 
 #include "ratchet/scene/scene.hpp"

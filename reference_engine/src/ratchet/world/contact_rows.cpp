@@ -1,6 +1,6 @@
 // Phase 4, first half: from the step's contact list to the solver's rows (local
 // frames, Delassus blocks, expansion velocities, gap biases) and their warm start.
-// docs/method.md s. 3-4.
+// docs/method.md s. 4-5, 9.
 #include <algorithm>
 #include <cmath>
 
@@ -87,7 +87,7 @@ void World::build_rows() {
     r.W_inv.setZero();
     if (friction_on_) r.W_inv = r.W.inverse();
     r.u0 = r.F.transpose() * c.u_expansion;
-    // Gap relaxation (docs/method.md s. 3): an overlap closes at p_gap g / h per step.
+    // Gap relaxation (docs/method.md s. 5): an overlap closes at p_gap g / h per step.
     const double g = c.geometry.gap;
     const double g_eff = g >= 0.0 ? g : p_gap * g;
     // Velocity-level Signorini: u_n(t+h) >= -g_eff / h. Theta enters the position update

@@ -1,4 +1,4 @@
-// The phases of one time step, in order (design.md section 3, docs/method.md), and
+// The phases of one time step, in order (docs/method.md, "The step"), and
 // their timers. The step function in world.cpp calls them in this order.
 #pragma once
 

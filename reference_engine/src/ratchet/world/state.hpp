@@ -30,7 +30,7 @@ struct KeptImpulse {
 };
 
 // The common plane of a polyhedron pair, kept to warm-start the next step's search
-// (design.md s. 4).
+// (docs/method.md s. 3).
 struct KeptPlane {
   int a = 0, b = 0;
   CommonPlaneCache cache;

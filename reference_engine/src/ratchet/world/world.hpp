@@ -43,7 +43,7 @@ class World {
  public:
   explicit World(const SceneDef& scene);
 
-  // One Moreau-Jean step of length h, as the named phases of design.md section 3.
+  // One Moreau-Jean step of length h, as the named phases of docs/method.md, "The step".
   void step();
 
   // A scene with a settle section (scene.hpp, SettleDef): the bed has settled at the
