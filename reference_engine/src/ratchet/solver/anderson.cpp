@@ -35,6 +35,7 @@ bool AndersonMixer::mix(std::vector<SolverRow>& rows) {
       dF_.resize(static_cast<std::size_t>(depth_));
       dG_.resize(dF_.size());
       gram_ = Eigen::MatrixXd::Zero(depth_, depth_);
+      rhs_ = Eigen::VectorXd::Zero(depth_);
     }
     const int h = head_;
     count_ = std::min(count_ + 1, depth_);
@@ -43,40 +44,49 @@ bool AndersonMixer::mix(std::vector<SolverRow>& rows) {
     std::vector<double>& cg = dG_[static_cast<std::size_t>(h)];
     cf.resize(n);
     cg.resize(n);
-    // The new column and its row of the Gram matrix in one pass (the other entries
-    // are kept from earlier sweeps): 2m products per unknown instead of m^2 / 2.
+    // The new column, its row of the Gram matrix and its product with f_{k-1} in one
+    // pass; the other entries are kept from earlier sweeps. Since f_k = f_{k-1} + the
+    // new column, the right-hand side dF^T f_k follows from the last one and the new
+    // Gram row without another pass: 2m + 1 products per unknown in all.
+    const double* cols[kMaxDepth];
+    for (int b = 0; b < count_; ++b) cols[b] = dF_[static_cast<std::size_t>(b)].data();
     double dots[kMaxDepth] = {};
+    double with_prev = 0.0;
+    double* cfp = cf.data();
+    double* cgp = cg.data();
     for (std::size_t i = 0; i < n; ++i) {
       const double c = f_[i] - f_prev_[i];
-      cf[i] = c;
-      cg[i] = g_[i] - g_prev_[i];
-      for (int b = 0; b < count_; ++b) dots[b] += c * (b == h ? c : dF_[static_cast<std::size_t>(b)][i]);
+      cfp[i] = c;
+      cgp[i] = g_[i] - g_prev_[i];
+      with_prev += c * f_prev_[i];
+      for (int b = 0; b < count_; ++b) dots[b] += c * cols[b][i];  // cols[h] is cfp: c * c
     }
     for (int b = 0; b < count_; ++b) { gram_(h, b) = dots[b]; gram_(b, h) = dots[b]; }
+    for (int b = 0; b < count_; ++b) rhs_(b) = b == h ? with_prev + dots[h] : rhs_(b) + dots[b];
   }
-  f_prev_ = f_;
-  g_prev_ = g_;
+  f_prev_.swap(f_);
+  g_prev_.swap(g_);
   fnorm_prev_ = fnorm;
   have_prev_ = true;
   if (count_ == 0) return false;
   // Least squares by the normal equations of the m columns (m <= depth, small), summed
   // in a fixed order so the result does not depend on threads.
   const int m = count_;
-  Eigen::VectorXd r = Eigen::VectorXd::Zero(m);
-  for (std::size_t i = 0; i < n; ++i)
-    for (int a = 0; a < m; ++a) r(a) += dF_[static_cast<std::size_t>(a)][i] * f_[i];
+  const Eigen::VectorXd r = rhs_.head(m);
   Eigen::MatrixXd G = gram_.topLeftCorner(m, m);
   // Tikhonov term relative to the Gram matrix's scale: keeps nearly parallel columns
   // (a slowly converging sweep repeats its direction) from blowing gamma up.
   G.diagonal().array() += 1e-10 * G.diagonal().maxCoeff() + 1e-300;
   const Eigen::VectorXd gamma = G.ldlt().solve(r);
   if (!gamma.allFinite()) { count_ = 0; head_ = 0; ++restarts_; return false; }
+  const double* gcols[kMaxDepth];
+  for (int a = 0; a < m; ++a) gcols[a] = dG_[static_cast<std::size_t>(a)].data();
   for (std::size_t k = 0; k < rows.size(); ++k) {
     Vec3 l;
     for (int j = 0; j < 3; ++j) {
       const std::size_t i = 3 * k + static_cast<std::size_t>(j);
-      double v = g_[i];
-      for (int a = 0; a < m; ++a) v -= gamma(a) * dG_[static_cast<std::size_t>(a)][i];
+      double v = g_prev_[i];  // G(x_k), swapped in above
+      for (int a = 0; a < m; ++a) v -= gamma(a) * gcols[a][i];
       l[j] = v;
     }
     // Back onto the cone: lambda_n >= 0, |lambda_t| <= mu lambda_n.

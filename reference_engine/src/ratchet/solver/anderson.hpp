@@ -38,6 +38,7 @@ class AndersonMixer {
   std::vector<double> x_, f_prev_, g_prev_, f_, g_;
   std::vector<std::vector<double>> dF_, dG_;  // ring buffers of columns
   Eigen::MatrixXd gram_;                      // dF^T dF of the ring's columns
+  Eigen::VectorXd rhs_;                       // dF^T f_k
   int count_ = 0, head_ = 0;
   bool have_prev_ = false;
   double fnorm_prev_ = 0.0;
