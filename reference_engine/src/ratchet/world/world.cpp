@@ -47,7 +47,10 @@ std::vector<PlanItem> World::plan() const {
                                                      : "the scene has no thermal protocol")});
   p.push_back({kPhaseNames[2], true, "broad phase (uniform grid) and narrow phase for every pair type present"});
   p.push_back({kPhaseNames[3], true,
-               std::string("non-linear Gauss-Seidel, ") +
+               std::string(scene_.solver.acceleration == Acceleration::Anderson
+                               ? "non-linear Gauss-Seidel with Anderson acceleration (depth " +
+                                     std::to_string(scene_.solver.anderson_depth) + "), "
+                               : "non-linear Gauss-Seidel, ") +
                    (friction_on_ ? "normal and tangential (Coulomb) parts" : "normal part only: effects.friction is off") +
                    (rotation_on_ ? ", with rotation" : ", no rotation: effects.rotation is off")});
   p.push_back({kPhaseNames[4], true,
