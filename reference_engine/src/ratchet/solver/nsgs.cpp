@@ -12,8 +12,9 @@ namespace {
 
 // One Gauss-Seidel sweep in row order: each contact solved exactly with the others
 // frozen, its change applied at once. d2 and l2 accumulate |d lambda|^2 and |lambda|^2.
-[[gnu::always_inline]] inline void sweep(std::vector<SolverRow>& cs, SolverBodies& B, bool friction, bool rotation,
-                                         double& d2, double& l2, std::int64_t& tangential) {
+[[gnu::always_inline]] inline void sweep(std::vector<SolverRow>& cs, SolverBodies& bodies, bool friction,
+                                         bool rotation, double& d2, double& l2, std::int64_t& tangential) {
+  const BodyArrays B = arrays_of(bodies);
   for (SolverRow& c : cs) {
     const Vec3 u = local_velocity(c, B, rotation);
     Vec3 lambda_new;
@@ -39,7 +40,8 @@ namespace {
 void rebuild_velocities(const std::vector<SolverRow>& cs, SolverBodies& B, const SolverScratch& s, bool rotation) {
   B.v = s.v_free;
   B.w = s.w_free;
-  for (const SolverRow& c : cs) apply_local_impulse(c, c.lambda, B, rotation);
+  const BodyArrays arrays = arrays_of(B);
+  for (const SolverRow& c : cs) apply_local_impulse(c, c.lambda, arrays, rotation);
 }
 
 }  // namespace

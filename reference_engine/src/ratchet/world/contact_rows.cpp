@@ -121,7 +121,7 @@ void World::warm_start(SolverBodies& bodies) {
       lambda[2] = l2;
     }
     s.rows[k].lambda = lambda;
-    apply_local_impulse(s.rows[k], lambda, bodies, rotation_on_);
+    apply_local_impulse(s.rows[k], lambda, arrays_of(bodies), rotation_on_);
   }
 }
 
