@@ -7,6 +7,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "state_at_rest.hpp"
+
 namespace ratchet {
 namespace {
 
@@ -25,16 +27,7 @@ SceneDef sphere_and_cube() {
                      "bed.json");
 }
 
-State state_of(const SceneDef& s) {
-  State st;
-  for (const BodyDef& b : s.bodies) {
-    st.x.push_back(b.position);
-    st.q.push_back(b.orientation);
-    st.v.push_back(Vec3::Zero());
-    st.w.push_back(Vec3::Zero());
-  }
-  return st;
-}
+State state_of(const SceneDef& s) { return test::state_at_rest(s); }
 
 TEST(BedGeometry, SpherePointsLieOnItsScaledSurface) {
   const SceneDef s = sphere_and_cube();

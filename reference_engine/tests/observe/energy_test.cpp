@@ -6,6 +6,8 @@
 
 #include <cmath>
 
+#include "state_at_rest.hpp"
+
 namespace ratchet {
 namespace {
 
@@ -20,16 +22,7 @@ SceneDef two_spheres() {
                      "ke.json");
 }
 
-State state_of(const SceneDef& s) {
-  State st;
-  for (const BodyDef& b : s.bodies) {
-    st.x.push_back(b.position);
-    st.q.push_back(b.orientation);
-    st.v.push_back(Vec3::Zero());
-    st.w.push_back(Vec3::Zero());
-  }
-  return st;
-}
+State state_of(const SceneDef& s) { return test::state_at_rest(s); }
 
 TEST(KineticEnergy, TranslationOfTheMovingBodies) {
   const SceneDef s = two_spheres();

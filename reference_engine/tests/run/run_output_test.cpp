@@ -10,18 +10,15 @@
 #include <limits>
 #include <sstream>
 
+#include "file_lines.hpp"
+
 namespace ratchet {
 namespace {
 
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-std::vector<std::string> lines_of(const fs::path& p) {
-  std::ifstream in(p);
-  std::vector<std::string> out;
-  for (std::string l; std::getline(in, l);) out.push_back(l);
-  return out;
-}
+using test::lines_of;
 
 SceneDef one_sphere() {
   return build_scene(json::parse(R"({

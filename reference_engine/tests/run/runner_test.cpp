@@ -8,18 +8,15 @@
 #include <filesystem>
 #include <fstream>
 
+#include "file_lines.hpp"
+
 namespace ratchet {
 namespace {
 
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-std::vector<std::string> lines_of(const fs::path& p) {
-  std::ifstream in(p);
-  std::vector<std::string> out;
-  for (std::string l; std::getline(in, l);) out.push_back(l);
-  return out;
-}
+using test::lines_of;
 
 // Two spheres falling onto a floor: 10 steps.
 SceneDef falling() {
