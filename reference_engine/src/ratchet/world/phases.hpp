@@ -15,7 +15,7 @@ enum class Phase : int {
   Solve,             // 4. Delassus blocks, warm start, non-linear Gauss-Seidel
   Integrate,         // 5. positions, orientations, new scales
   KeepImpulses,      // 6. impulses kept for the next step's warm start
-  Observe,           // 7. wall forces, energy, outputs
+  Observe,           // 7. wall forces and the active contact count (observables are computed after the step, observe/)
   Count
 };
 

@@ -1,6 +1,6 @@
 // The mutable state of a run: everything that carries from one step to the next
 // (poses, velocities, scales, the impulses and common planes kept for warm starting).
-// State plus the SceneDef is all a restart would need (there is no restart command yet).
+// State plus the SceneDef is all a restart needs (`ratchet run --packing` starts from a saved State).
 #pragma once
 
 #include <cstdint>
