@@ -13,16 +13,52 @@ void AndersonMixer::begin(const std::vector<SolverRow>& rows) {
     for (int j = 0; j < 3; ++j) x_[3 * k + static_cast<std::size_t>(j)] = rows[k].lambda[j];
 }
 
+double* AndersonMixer::record_buffer(std::size_t rows, bool after) {
+  std::vector<double>& b = after ? g_ : x_;
+  b.resize(3 * rows);
+  return b.data();
+}
+
 bool AndersonMixer::mix(std::vector<SolverRow>& rows) {
+  g_.resize(3 * rows.size());
+  for (std::size_t k = 0; k < rows.size(); ++k)
+    for (int j = 0; j < 3; ++j) g_[3 * k + static_cast<std::size_t>(j)] = rows[k].lambda[j];
+  if (!plan(rows)) return false;
+  for (std::size_t k = 0; k < rows.size(); ++k) rows[k].lambda = extrapolated(k, rows[k].mu);
+  return true;
+}
+
+Vec3 AndersonMixer::extrapolated(std::size_t k, double mu) const {
+  Vec3 l;
+  for (int j = 0; j < 3; ++j) {
+    const std::size_t i = 3 * k + static_cast<std::size_t>(j);
+    double v = g_prev_[i];  // G(x_k), swapped in by plan()
+    for (int a = 0; a < count_; ++a) v -= gamma_[a] * gcols_[a][i];
+    l[j] = v;
+  }
+  // Back onto the cone: lambda_n >= 0, |lambda_t| <= mu lambda_n.
+  l[0] = std::max(0.0, l[0]);
+  const double lt = std::sqrt(l[1] * l[1] + l[2] * l[2]), cap = mu * l[0];
+  if (lt > cap) {
+    const double f = lt > 0.0 ? cap / lt : 0.0;
+    l[1] *= f;
+    l[2] *= f;
+  }
+  return l;
+}
+
+bool AndersonMixer::plan(const std::vector<SolverRow>& rows) {
   const std::size_t n = 3 * rows.size();
+  if (weight_.size() != rows.size()) {  // W is fixed within a solve: one pass for all sweeps
+    weight_.resize(rows.size());
+    for (std::size_t k = 0; k < rows.size(); ++k) weight_[k] = std::sqrt(rows[k].W(0, 0));
+  }
   f_.resize(n);
-  g_.resize(n);
   double fnorm = 0.0;
   for (std::size_t k = 0; k < rows.size(); ++k) {
-    const double wk = std::sqrt(rows[k].W(0, 0));
+    const double wk = weight_[k];
     for (int j = 0; j < 3; ++j) {
       const std::size_t i = 3 * k + static_cast<std::size_t>(j);
-      g_[i] = rows[k].lambda[j];
       f_[i] = wk * (g_[i] - x_[i]);
       fnorm += f_[i] * f_[i];
     }
@@ -79,25 +115,9 @@ bool AndersonMixer::mix(std::vector<SolverRow>& rows) {
   G.diagonal().array() += 1e-10 * G.diagonal().maxCoeff() + 1e-300;
   const Eigen::VectorXd gamma = G.ldlt().solve(r);
   if (!gamma.allFinite()) { count_ = 0; head_ = 0; ++restarts_; return false; }
-  const double* gcols[kMaxDepth];
-  for (int a = 0; a < m; ++a) gcols[a] = dG_[static_cast<std::size_t>(a)].data();
-  for (std::size_t k = 0; k < rows.size(); ++k) {
-    Vec3 l;
-    for (int j = 0; j < 3; ++j) {
-      const std::size_t i = 3 * k + static_cast<std::size_t>(j);
-      double v = g_prev_[i];  // G(x_k), swapped in above
-      for (int a = 0; a < m; ++a) v -= gamma(a) * gcols[a][i];
-      l[j] = v;
-    }
-    // Back onto the cone: lambda_n >= 0, |lambda_t| <= mu lambda_n.
-    l[0] = std::max(0.0, l[0]);
-    const double lt = std::sqrt(l[1] * l[1] + l[2] * l[2]), cap = rows[k].mu * l[0];
-    if (lt > cap) {
-      const double f = lt > 0.0 ? cap / lt : 0.0;
-      l[1] *= f;
-      l[2] *= f;
-    }
-    rows[k].lambda = l;
+  for (int a = 0; a < m; ++a) {
+    gamma_[a] = gamma(a);
+    gcols_[a] = dG_[static_cast<std::size_t>(a)].data();
   }
   return true;
 }

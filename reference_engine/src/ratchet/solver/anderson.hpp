@@ -26,10 +26,20 @@ class AndersonMixer {
   // Before a sweep: remembers the impulses x_k the sweep starts from.
   void begin(const std::vector<SolverRow>& rows);
 
+  // Or the sweep writes x_k (before) and G(x_k) (after) itself, row by row, into these
+  // contiguous buffers (3 per row), which saves two passes over the rows.
+  double* record_buffer(std::size_t rows, bool after);
+
   // After the sweep (rows hold G(x_k)): updates the history and, when it has one,
   // writes the extrapolated, projected impulses into the rows and returns true (the
   // caller must then rebuild the body velocities from them).
   bool mix(std::vector<SolverRow>& rows);
+
+  // mix in two parts, for a caller that rebuilds the velocities as it writes the rows:
+  // plan (G(x_k) recorded) returns whether to extrapolate; extrapolated(k, mu) is then
+  // row k's new, projected impulse.
+  bool plan(const std::vector<SolverRow>& rows);
+  Vec3 extrapolated(std::size_t k, double mu) const;
 
   int restarts() const { return restarts_; }
 
@@ -39,6 +49,9 @@ class AndersonMixer {
   std::vector<std::vector<double>> dF_, dG_;  // ring buffers of columns
   Eigen::MatrixXd gram_;                      // dF^T dF of the ring's columns
   Eigen::VectorXd rhs_;                       // dF^T f_k
+  std::vector<double> weight_;                // sqrt(W_nn) per row
+  double gamma_[kMaxDepth] = {};              // the last plan's coefficients
+  const double* gcols_[kMaxDepth] = {};       // and the dG columns they weigh
   int count_ = 0, head_ = 0;
   bool have_prev_ = false;
   double fnorm_prev_ = 0.0;

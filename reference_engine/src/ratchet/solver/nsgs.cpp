@@ -12,8 +12,12 @@ namespace {
 
 // One Gauss-Seidel sweep in row order: each contact solved exactly with the others
 // frozen, its change applied at once. d2 and l2 accumulate |d lambda|^2 and |lambda|^2.
+// Record: also write each row's impulse before and after into x and g (3 per row), for
+// the Anderson acceleration, while the row is in cache.
+template <bool Record>
 [[gnu::always_inline]] inline void sweep(std::vector<SolverRow>& cs, SolverBodies& bodies, bool friction,
-                                         bool rotation, double& d2, double& l2, std::int64_t& tangential) {
+                                         bool rotation, double& d2, double& l2, std::int64_t& tangential,
+                                         double* x = nullptr, double* g = nullptr) {
   const BodyArrays B = arrays_of(bodies);
   for (SolverRow& c : cs) {
     const Vec3 u = local_velocity(c, B, rotation);
@@ -30,18 +34,28 @@ namespace {
     }
     const Vec3 d = lambda_new - c.lambda;
     if (d.squaredNorm() > 0.0) apply_local_impulse(c, d, B, rotation);
+    if constexpr (Record) {
+      for (int j = 0; j < 3; ++j) { x[j] = c.lambda[j]; g[j] = lambda_new[j]; }
+      x += 3;
+      g += 3;
+    }
     c.lambda = lambda_new;
     d2 += d.squaredNorm();
     l2 += lambda_new.squaredNorm();
   }
 }
 
-// Body velocities from scratch for the impulses now in the rows: v = v_free + M^-1 H lambda.
-void rebuild_velocities(const std::vector<SolverRow>& cs, SolverBodies& B, const SolverScratch& s, bool rotation) {
+// The extrapolated impulses into the rows, and the body velocities rebuilt for them as
+// they are written: v = v_free + M^-1 H lambda (one pass over the rows).
+void write_extrapolated(std::vector<SolverRow>& cs, const AndersonMixer& mixer, SolverBodies& B,
+                        const SolverScratch& s, bool rotation) {
   B.v = s.v_free;
   B.w = s.w_free;
   const BodyArrays arrays = arrays_of(B);
-  for (const SolverRow& c : cs) apply_local_impulse(c, c.lambda, arrays, rotation);
+  for (std::size_t k = 0; k < cs.size(); ++k) {
+    cs[k].lambda = mixer.extrapolated(k, cs[k].mu);
+    apply_local_impulse(cs[k], cs[k].lambda, arrays, rotation);
+  }
 }
 
 }  // namespace
@@ -84,9 +98,12 @@ NsgsResult solve_nsgs(std::vector<SolverRow>& cs, SolverBodies& B, const NsgsSet
   const bool accelerate = set.anderson_depth > 0;
   for (it = 1; it <= set.max_iterations && !cs.empty(); ++it) {
     if (set.by_velocity) { s.v_sweep = B.v; s.w_sweep = B.w; }
-    if (accelerate) mixer.begin(cs);
     double d2 = 0.0, l2 = 0.0;
-    sweep(cs, B, friction, rotation, d2, l2, tangential);
+    if (accelerate)
+      sweep<true>(cs, B, friction, rotation, d2, l2, tangential, mixer.record_buffer(cs.size(), false),
+                  mixer.record_buffer(cs.size(), true));
+    else
+      sweep<false>(cs, B, friction, rotation, d2, l2, tangential);
     if (set.by_velocity) {
       const double de = velocity_change(B, s.v_sweep, s.w_sweep, rotation);
       const double e = velocity_change(B, s.v_free, s.w_free, rotation);
@@ -99,7 +116,7 @@ NsgsResult solve_nsgs(std::vector<SolverRow>& cs, SolverBodies& B, const NsgsSet
       for (const SolverRow& c : cs) normal_half += c.lambda[0];
     }
     if (residual < tol) break;
-    if (accelerate && mixer.mix(cs)) rebuild_velocities(cs, B, s, rotation);
+    if (accelerate && mixer.plan(cs)) write_extrapolated(cs, mixer, B, s, rotation);
   }
   out.sweeps = cs.empty() ? 0 : std::min(it, set.max_iterations);
   out.converged = cs.empty() || residual < tol;
