@@ -56,6 +56,7 @@ TEST(Collide, PolyhedronSpherePairIsFlippedToThePairsOrder) {
   collide_pair(ball, box.body, 0.1, cache, ba);
   ASSERT_EQ(ab.count, 1);
   ASSERT_EQ(ba.count, 1);
+  // 1e-12: the normal is a normalized difference of points of size ~1 (round-off only).
   EXPECT_NEAR(ab.points[0].normal.z(), 1.0, 1e-12);   // from the sphere (B) up to the box (A)
   EXPECT_NEAR(ba.points[0].normal.z(), -1.0, 1e-12);  // from the box (B) down to the sphere (A)
   EXPECT_EQ(ab.points[0].gap, ba.points[0].gap);
@@ -79,6 +80,7 @@ TEST(Collide, WallsByKind) {
   collide_wall(sphere(Vec3(0, 0, 0.49), 0.5), Vec3::UnitZ(), Vec3::Zero(), 0.05, ms);
   EXPECT_EQ(mb.count, 4);
   EXPECT_EQ(ms.count, 1);
+  // 1e-12: the gap is 0.49 - 0.5 in a few roundings of numbers of size ~1.
   EXPECT_NEAR(mb.points[0].gap, -0.01, 1e-12);
   EXPECT_NEAR(ms.points[0].gap, -0.01, 1e-12);
 }

@@ -42,7 +42,8 @@ TEST(TestHooks, DropWallExpansionRemovesOnlyTheWallsTerm) {
   // negative x part; the particle's own eps_p r is vertical (r from its centre).
   EXPECT_LT(with.x(), -1e-2);
   EXPECT_EQ(without.x(), 0.0);
-  // What the hook removed is the wall's term, parallel to p - c0 (c0 the bottom centre).
+  // What the hook removed is the wall's term, parallel to p - c0 (c0 the bottom centre);
+  // 1e-12 relative: the difference of two sums of products of size ~0.1 (round-off only).
   const Vec3 removed = with - without, arm = on.geometry.point;
   EXPECT_LT(removed.cross(arm).norm(), 1e-12 * removed.norm() * arm.norm());
   EXPECT_EQ(off.geometry.point, on.geometry.point);  // same contact, same step

@@ -7,25 +7,10 @@
 
 namespace ratchet {
 
-void AndersonMixer::begin(const std::vector<SolverRow>& rows) {
-  x_.resize(3 * rows.size());
-  for (std::size_t k = 0; k < rows.size(); ++k)
-    for (int j = 0; j < 3; ++j) x_[3 * k + static_cast<std::size_t>(j)] = rows[k].lambda[j];
-}
-
 double* AndersonMixer::record_buffer(std::size_t rows, bool after) {
   std::vector<double>& b = after ? g_ : x_;
   b.resize(3 * rows);
   return b.data();
-}
-
-bool AndersonMixer::mix(std::vector<SolverRow>& rows) {
-  g_.resize(3 * rows.size());
-  for (std::size_t k = 0; k < rows.size(); ++k)
-    for (int j = 0; j < 3; ++j) g_[3 * k + static_cast<std::size_t>(j)] = rows[k].lambda[j];
-  if (!plan(rows)) return false;
-  for (std::size_t k = 0; k < rows.size(); ++k) rows[k].lambda = extrapolated(k, rows[k].mu);
-  return true;
 }
 
 Vec3 AndersonMixer::extrapolated(std::size_t k, double mu) const {

@@ -23,21 +23,13 @@ class AndersonMixer {
   static constexpr int kMaxDepth = 50;  // solver.anderson_depth's upper bound
   explicit AndersonMixer(int depth) : depth_(depth < kMaxDepth ? depth : kMaxDepth) {}
 
-  // Before a sweep: remembers the impulses x_k the sweep starts from.
-  void begin(const std::vector<SolverRow>& rows);
-
-  // Or the sweep writes x_k (before) and G(x_k) (after) itself, row by row, into these
-  // contiguous buffers (3 per row), which saves two passes over the rows.
+  // The sweep writes x_k (before) and G(x_k) (after) row by row into these contiguous
+  // buffers (3 per row) while each row is in cache.
   double* record_buffer(std::size_t rows, bool after);
 
-  // After the sweep (rows hold G(x_k)): updates the history and, when it has one,
-  // writes the extrapolated, projected impulses into the rows and returns true (the
-  // caller must then rebuild the body velocities from them).
-  bool mix(std::vector<SolverRow>& rows);
-
-  // mix in two parts, for a caller that rebuilds the velocities as it writes the rows:
-  // plan (G(x_k) recorded) returns whether to extrapolate; extrapolated(k, mu) is then
-  // row k's new, projected impulse.
+  // After the sweep: updates the history and returns whether to extrapolate;
+  // extrapolated(k, mu) is then row k's new impulse, projected onto its cone (the caller
+  // writes it and rebuilds the body velocities in the same pass).
   bool plan(const std::vector<SolverRow>& rows);
   Vec3 extrapolated(std::size_t k, double mu) const;
 
