@@ -45,9 +45,13 @@ double wetted_side_area(const SceneDef& scene, const State& state, double height
   return lateral_area(state.s_c * c.bottom_radius, c.opening_angle_deg, c.segments, height);
 }
 
-double side_wall_pressure(const SceneDef& scene, const State& state, double side_force) {
-  const double area = wetted_side_area(scene, state, bed_height(scene, state));
+double side_wall_pressure(const SceneDef& scene, const State& state, double side_force, double height) {
+  const double area = wetted_side_area(scene, state, height);
   return area > 0.0 ? side_force / area : 0.0;
+}
+
+double side_wall_pressure(const SceneDef& scene, const State& state, double side_force) {
+  return side_wall_pressure(scene, state, side_force, bed_height(scene, state));
 }
 
 WallLoad wall_load(const std::vector<double>& segment_force, double bottom_force, double bottom_apothem,

@@ -46,6 +46,8 @@ double wetted_side_area(const SceneDef& scene, const State& state, double height
 // divided by wetted_side_area up to bed_height (observe/bed_geometry.hpp), or 0 when
 // that area is not positive (no cone, empty bed).
 double side_wall_pressure(const SceneDef& scene, const State& state, double side_force);
+// The same with the bed height already known (a caller that also writes it).
+double side_wall_pressure(const SceneDef& scene, const State& state, double side_force, double height);
 
 // Vertical profile of side-wall stress: [0, height] is cut into `bins` bands of equal
 // height dz = height / bins; band k gets the total normal force of the side-wall

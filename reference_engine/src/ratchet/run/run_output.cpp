@@ -39,7 +39,7 @@ void RunOutput::write_timeseries_row(const World& world, const std::vector<doubl
     << format_double(s.s_c) << ',' << format_double(kinetic_energy(sc, s)) << ',' << st.contacts << ','
     << st.iterations << ',' << format_double(st.residual) << ',' << format_double(st.wall_force_side) << ','
     << format_double(st.wall_force_bottom) << ',' << format_double(st.wall_force_total) << ',' << format_double(H)
-    << ',' << format_double(side_wall_pressure(sc, s, st.wall_force_side));
+    << ',' << format_double(side_wall_pressure(sc, s, st.wall_force_side, H));
   for (double t : world.timers().last_step) o << ',' << format_double(t);
   for (double v : extra) o << ',' << format_double(v);
   o << '\n';
