@@ -120,5 +120,48 @@ TEST_P(JammedSphere, WallForcesStayBoundedAndKineticEnergySmall) {
 
 INSTANTIATE_TEST_SUITE_P(PGap, JammedSphere, ::testing::Values(0.01, 0.1, 1.0));
 
+// With a contact compliance (docs/method.md s. 5) the same jam has a solution: the block
+// W + c I is positive definite, so every step converges, and during the hold (nothing
+// moves, u_n = 0) each wall's law u_n + b + c lambda_n = 0 gives the force in closed form:
+// F = lambda_n / h = p_gap delta / (c h^2), c = epsilon W_nn = epsilon / m (a sphere
+// pressed through its centre), delta = 0.01 - 0.002 the overlap at T1.
+TEST(JammedSphereCompliant, EveryStepConvergesAndTheHoldForceIsTheCompliantLaw) {
+  const double epsilon = 0.03;
+  // The squeeze (both walls pressing alike) is a self-stress: Gauss-Seidel contracts it
+  // by about 1 - epsilon per sweep, so the tolerance 1e-8 takes some 600 sweeps here.
+  SceneDef scene = load_scene(kDir + "sphere_walls.json", {"solver.compliance=0.03", "solver.max_iterations=5000"});
+  World world(scene);
+  const ThermalProtocol& th = scene.thermal;
+  const double hold_begin = th.heat_time, hold_end = th.heat_time + th.hold_time;
+  double force_hold_min = HUGE_VAL, force_hold_max = 0.0, force_end = -1.0, max_ke = 0.0;
+  int unconverged_steps = 0;
+  run_world(world, {}, [&](const World& w) {
+    const double t = w.state().t;
+    const double F = w.stats().wall_force_total;
+    max_ke = std::max(max_ke, kinetic_energy(w.scene(), w.state()));
+    unconverged_steps += w.stats().converged ? 0 : 1;
+    if (t > hold_begin + 0.1 && t < hold_end - 0.1) {
+      force_hold_min = std::min(force_hold_min, F);
+      force_hold_max = std::max(force_hold_max, F);
+    }
+    force_end = F;
+  });
+  const std::string case_name = "jammed sphere, compliance 0.03";
+  const double m = scene.bodies[0].mass, h = scene.dt, p_gap = scene.solver.p_gap;
+  const double delta = th.alpha_p * (th.T1 - th.T0) * 1.0 - 0.002;  // r = 1
+  const double per_wall = p_gap * delta / (epsilon / m * h * h);
+  EXPECT_TRUE(check_near(case_name, "steps stopped at the cap", unconverged_steps, 0.0, 0.0,
+                         "W + c I is positive definite: the compliant problem always has a solution"));
+  EXPECT_TRUE(check_rel(case_name, "wall force during the hold, both walls", force_hold_max, 2.0 * per_wall, 1e-6,
+                        "F = p_gap delta / (c h^2) per wall; 1e-6: the tolerance 1e-8 of the solve and round-off"));
+  EXPECT_TRUE(check_rel(case_name, "min / max wall force during the hold", force_hold_min / force_hold_max, 1.0, 1e-6,
+                        "nothing moves during the hold: the force is steady"));
+  EXPECT_TRUE(check_near(case_name, "wall force after cooling back", force_end, 0.0, 0.0,
+                         "the sphere is smaller than the gap again"));
+  const double eps = th.alpha_p * (th.T1 - th.T0) / th.heat_time;
+  EXPECT_TRUE(check_le(case_name, "max kinetic energy / drift energy (1/2) m (eps r)^2",
+                       max_ke / (0.5 * m * eps * eps), 1.0 + 1e-6, "no energy beyond the imposed expansion drift"));
+}
+
 }  // namespace
 }  // namespace ratchet

@@ -239,8 +239,9 @@ TEST(Packing, PackingOfAnotherSceneIsRefusedBeforeAnythingChanges) {
   fs::remove_all(d);
 }
 
-// A packing fixes the bed; how closely a run from it is solved may differ (the study of
-// what accuracy costs varies tolerance, criterion, cap and acceleration from one bed).
+// A packing fixes the bed; how closely a run from it is solved, and the contact
+// compliance, may differ (the study of what accuracy costs varies tolerance, criterion,
+// cap, acceleration and compliance from one bed).
 // Anything else that shapes the bed is still refused.
 TEST(Packing, SolveKnobsMayDifferFromThePackingsScene) {
   const fs::path d = scratch("knobs");
@@ -249,6 +250,7 @@ TEST(Packing, SolveKnobsMayDifferFromThePackingsScene) {
   json knobs = with(with(with(bed(), "solver.tolerance", 1e-7), "solver.max_iterations", 5000), "solver.criterion",
                     "velocity");
   knobs = with(with(knobs, "solver.acceleration", "anderson"), "solver.anderson_depth", 3);
+  knobs = with(knobs, "solver.compliance", 0.03);
   World w(build_scene(knobs, "knobs.json"));
   EXPECT_NE(packing_key(w.scene()), packing_key(build_scene(bed(), "a.json")));
   EXPECT_NO_THROW((void)load_packing(file, w));

@@ -63,6 +63,35 @@ TEST(RunWorld, RowsAtEveryNthStepAndTheLast) {
   EXPECT_EQ(meta.at("status"), "completed");
   EXPECT_EQ(meta.at("steps"), 10);
   EXPECT_EQ(meta.at("summary"), r.summary);
+  EXPECT_EQ(meta.at("warnings"), json::array());  // every step converged
+  fs::remove_all(d);
+}
+
+// The iteration cap is meant to be out of reach: a run whose steps stop there says so in
+// run.json, with the count and the first such step (docs/output-format.md).
+TEST(RunWorld, StepsStoppedAtTheCapAreAWarningInRunJson) {
+  const fs::path d = scratch("cap");
+  json scene = json::parse(R"({
+    "name": "stack", "time": {"dt": 0.01, "duration": 0.05},
+    "solver": {"max_iterations": 1, "tolerance": 1e-12},
+    "container": {"type": "planes", "planes": [{"normal": [0, 0, 1], "point": [0, 0, 0]}]},
+    "particles": {"bodies": [{"shape": "sphere", "radius": 0.5, "position": [0, 0, 0.5]},
+                             {"shape": "sphere", "radius": 0.5, "position": [0, 0, 1.5]},
+                             {"shape": "sphere", "radius": 0.5, "position": [0, 0, 2.5]}]},
+    "outputs": {"volume": false}
+  })");
+  World world(build_scene(scene, "stack.json"));
+  RunOptions opt;
+  opt.out_dir = d.string();
+  const RunResult r = run_world(world, opt);
+  ASSERT_EQ(r.warnings.size(), 1u);
+  const std::string w = r.warnings[0].get<std::string>();
+  EXPECT_NE(w.find("5 of 5 steps stopped at solver.max_iterations = 1"), std::string::npos) << w;
+  EXPECT_NE(w.find("the first at step 1"), std::string::npos) << w;
+  std::ifstream in(d / "run.json");
+  const json meta = json::parse(in);
+  EXPECT_EQ(meta.at("warnings"), r.warnings);
+  EXPECT_EQ(meta.at("counters").at("unconverged_steps"), 5);
   fs::remove_all(d);
 }
 

@@ -125,6 +125,8 @@ INSTANTIATE_TEST_SUITE_P(
         BadCase{"NaN as text", "/time/dt", "\"nan\"", "'time.dt'", "finite positive number"},
         BadCase{"p_gap out of range", "/solver/p_gap", "1.5", "'solver.p_gap'", "(0, 1]"},
         BadCase{"theta out of range", "/solver/theta", "0.2", "'solver.theta'", "[0.5, 1]"},
+        BadCase{"negative compliance", "/solver/compliance", "-0.01", "'solver.compliance'", "[0, 1]"},
+        BadCase{"compliance as text", "/solver/compliance", "\"0.03\"", "'solver.compliance'", "[0, 1]"},
         BadCase{"bad vector", "/gravity", "[0, 1]", "'gravity'", "3 finite numbers"},
         BadCase{"unknown shape", "/particles/bodies/0/shape", "\"cube\"", "particles.bodies[0].shape", "\"sphere\""},
         BadCase{"bad container type", "/container/type", "\"box\"", "'container.type'", "\"cone\" or \"planes\""},
@@ -227,6 +229,9 @@ TEST(Scene, OverridesSetNestedFieldsAndAreChecked) {
   apply_override(j, "name=renamed", "scene.json");              // not JSON: taken as a string
   const SceneDef s = build_scene(j, "scene.json");
   EXPECT_DOUBLE_EQ(s.solver.p_gap, 0.25);
+  EXPECT_DOUBLE_EQ(s.solver.compliance, 0.0);  // rigid unless a scene asks
+  apply_override(j, "solver.compliance=0.03", "scene.json");
+  EXPECT_DOUBLE_EQ(build_scene(j, "scene.json").solver.compliance, 0.03);
   EXPECT_FALSE(s.effects.friction);
   EXPECT_EQ(s.name, "renamed");
   EXPECT_THROW(apply_override(j, "solver.p_gap", "scene.json"), SceneError);

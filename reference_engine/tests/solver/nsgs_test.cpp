@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include <Eigen/Dense>
+
 #include "column_problem.hpp"
 
 namespace ratchet {
@@ -53,6 +55,76 @@ TEST(Nsgs, VelocityCriterionMeasuresTheBodiesNotTheImpulses) {
   // 1e-8: the velocity residual 1e-10 is relative to the contacts' whole velocity change
   // (0.04 per body here), summed over 10 bodies.
   for (int k = 0; k < c.n; ++k) EXPECT_NEAR(c.v[static_cast<std::size_t>(k)].z(), 0.0, 1e-8) << k;
+}
+
+// Compliance (docs/method.md s. 5): every contact's law holds for u + c lambda with
+// c = epsilon W_nn, the block W + c I in the local solve.
+void make_compliant(test::Column& c, double epsilon) {
+  for (SolverRow& r : c.rows) {
+    r.compliance = epsilon * r.W(0, 0);
+    Mat3 Wc = r.W;
+    Wc.diagonal().array() += r.compliance;
+    r.W_inv = Wc.inverse();
+  }
+}
+
+// The compliant column has a known answer too: with every contact pressed, body k
+// (unit mass) leaves with v_k = -g h + l_k - l_{k+1}, and each contact's normal law is
+// the equality u_n + c l = 0, a tridiagonal system solved here directly.
+TEST(Nsgs, CompliantColumnSolvesTheCompliantLaw) {
+  const double epsilon = 0.1;
+  test::Column c(10, 0.04, 0.5);
+  make_compliant(c, epsilon);
+  SolverBodies b = c.bodies();
+  const NsgsResult r = solve_nsgs(c.rows, b, settings(100000, 1e-13, true), c.scratch);
+  ASSERT_TRUE(r.converged);
+  Eigen::MatrixXd A = Eigen::MatrixXd::Zero(c.n, c.n);
+  Eigen::VectorXd rhs = Eigen::VectorXd::Zero(c.n);
+  for (int k = 0; k < c.n; ++k) {
+    const double ck = c.rows[static_cast<std::size_t>(k)].compliance;
+    A(k, k) = (k == 0 ? 1.0 : 2.0) + ck;  // u_n = v_k - v_{k-1} (v_0 against the floor)
+    if (k > 0) A(k, k - 1) = -1.0;
+    if (k + 1 < c.n) A(k, k + 1) = -1.0;
+  }
+  rhs(0) = c.gh;  // the floor contact: -g h + l_0 - l_1 + c l_0 = 0
+  const Eigen::VectorXd exact = A.partialPivLu().solve(rhs);
+  for (int k = 0; k < c.n; ++k) {
+    ASSERT_GT(exact(k), 0.0) << k;  // every contact pressed, as the system assumes
+    // 1e-9 of the largest impulse: the compliant problem is well conditioned, and the
+    // tolerance 1e-13 leaves far less than that.
+    EXPECT_NEAR(c.rows[static_cast<std::size_t>(k)].lambda[0], exact(k), 1e-9 * c.n * c.gh) << k;
+    EXPECT_NEAR(c.rows[static_cast<std::size_t>(k)].lambda[1], 0.0, 1e-12) << k;
+  }
+  // Not the rigid answer: the compliant floor carries less than the whole weight in
+  // this step (the column sinks by c l h into it instead).
+  EXPECT_LT(c.rows[0].lambda[0], 0.99 * c.n * c.gh);
+  // Zero compliance is the rigid law, bit for bit: W + 0 I is W.
+  test::Column rigid(10, 0.04, 0.5), zero(10, 0.04, 0.5);
+  make_compliant(zero, 0.0);
+  SolverBodies br = rigid.bodies(), bz = zero.bodies();
+  (void)solve_nsgs(rigid.rows, br, settings(100000, 1e-10, true), rigid.scratch);
+  (void)solve_nsgs(zero.rows, bz, settings(100000, 1e-10, true), zero.scratch);
+  for (int k = 0; k < c.n; ++k)
+    EXPECT_EQ(rigid.rows[static_cast<std::size_t>(k)].lambda, zero.rows[static_cast<std::size_t>(k)].lambda) << k;
+}
+
+// Why compliance is fast: the rigid column's slow mode takes O(n^2) sweeps, while the
+// compliant operator W + c I has a condition number at most (sigma_max + c) / c, so
+// its sweep count does not grow with the depth of the column.
+TEST(Nsgs, CompliantSweepCountDoesNotGrowWithDepth) {
+  auto sweeps = [](int n, double epsilon) {
+    test::Column c(n, 0.04, 0.0);
+    make_compliant(c, epsilon);
+    SolverBodies b = c.bodies();
+    const NsgsResult r = solve_nsgs(c.rows, b, settings(1000000, 1e-8, false), c.scratch);
+    EXPECT_TRUE(r.converged) << n << " " << epsilon;
+    return r.sweeps;
+  };
+  const int rigid20 = sweeps(20, 0.0), rigid40 = sweeps(40, 0.0);
+  const int soft20 = sweeps(20, 0.1), soft40 = sweeps(40, 0.1);
+  EXPECT_GT(rigid40, 3 * rigid20);  // O(n^2): doubling the depth about quadruples it
+  EXPECT_LT(soft40, 2 * soft20);    // bounded by the conditioning, not the depth
+  EXPECT_LT(5 * soft40, rigid40);
 }
 
 TEST(Nsgs, NoRowsIsConvergedWithNoSweep) {

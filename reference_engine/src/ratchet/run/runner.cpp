@@ -48,6 +48,10 @@ RunResult run_world(World& world, const RunOptions& options, const std::function
   std::optional<SettleMonitor> settle;
   if (options.packing.is_null()) settle.emplace(world);
   bool printed = false;  // a progress line is on the terminal: an error must start a new line
+  // The cap is meant to be out of reach (docs/method.md s. 7): a step that stops there
+  // is reported at once, and the run's count and first such step go to run.json.
+  std::int64_t first_capped = -1;
+  double first_capped_t = 0.0, first_capped_residual = 0.0;
   try {
     while (world.state().step < scene.steps) {
       world.step();
@@ -56,6 +60,16 @@ RunResult run_world(World& world, const RunOptions& options, const std::function
       if (!std::isfinite(ke))
         throw RunError(scene.source + ": the state became non-finite at step " + std::to_string(k) +
                        " (t = " + std::to_string(world.state().t) + "); the time step may be too large");
+      if (!world.stats().converged && first_capped < 0) {
+        first_capped = k;
+        first_capped_t = world.state().t;
+        first_capped_residual = world.stats().residual;
+        std::fprintf(stderr, "%s%s: warning: step %lld (t = %.6g) stopped at solver.max_iterations = %d sweeps "
+                             "unconverged (residual %.3g, tolerance %.3g); further such steps are counted in run.json\n",
+                     printed ? "\n" : "", scene.source.c_str(), static_cast<long long>(k), world.state().t,
+                     scene.solver.max_iterations, world.stats().residual, scene.solver.tolerance);
+        printed = false;
+      }
       // Before the observers: the state that ends the settle stage starts the cycling.
       if (settle) settle->after_step(world);
       observers.after_step(world);
@@ -92,9 +106,19 @@ RunResult run_world(World& world, const RunOptions& options, const std::function
   r.summary = observers.finish(world);
   if (settle) r.settle = has_settle_stage(scene) ? settle->record() : nlohmann::json(nullptr);
   else r.settle = options.packing_settle;
+  if (first_capped >= 0) {
+    char text[320];
+    std::snprintf(text, sizeof text,
+                  "%lld of %lld steps stopped at solver.max_iterations = %d sweeps unconverged, the first at step %lld "
+                  "(t = %.6g, residual %.3g against the tolerance %.3g)",
+                  static_cast<long long>(world.stats().unconverged_steps), static_cast<long long>(r.steps),
+                  scene.solver.max_iterations, static_cast<long long>(first_capped), first_capped_t,
+                  first_capped_residual, scene.solver.tolerance);
+    r.warnings.push_back(text);
+  }
   if (out)
     out->finish(world, {{"status", "completed"}, {"wall_seconds", r.wall_seconds}, {"summary", r.summary},
-                        {"settle", r.settle}, {"packing", options.packing}});
+                        {"settle", r.settle}, {"packing", options.packing}, {"warnings", r.warnings}});
   return r;
 }
 

@@ -26,6 +26,7 @@ struct RunResult {
   double wall_seconds = 0.0;
   nlohmann::json summary;  // the observers' summary (P_max, V/V0, W_rms ...), also in run.json
   nlohmann::json settle;   // the settle record (run/packing.hpp), null without a thermal section
+  nlohmann::json warnings = nlohmann::json::array();  // what the run found wrong but survived, also in run.json
 };
 
 // Thrown when the state stops being finite (divergence).

@@ -125,7 +125,7 @@ void read_effects(const Reader& r, const json& j, Effects& e) {
 void read_solver(const Reader& r, const json& j, SolverSettings& s) {
   const std::string p = "solver";
   r.object(j, p, {"tolerance", "criterion", "max_iterations", "theta", "p_gap", "warm_start", "contact_margin", "threads",
-                  "acceleration", "anderson_depth"});
+                  "acceleration", "anderson_depth", "compliance"});
   s.tolerance = r.positive(j, p, "tolerance", s.tolerance);
   if (j.contains("criterion")) {
     const json& c = j.at("criterion");
@@ -143,6 +143,7 @@ void read_solver(const Reader& r, const json& j, SolverSettings& s) {
   s.anderson_depth = static_cast<int>(r.integer(j, p, "anderson_depth", s.anderson_depth, 1, 50));
   s.theta = r.number(j, p, "theta", s.theta, 0.5, 1.0, false, false, "a number in [0.5, 1]");
   s.p_gap = r.number(j, p, "p_gap", s.p_gap, 0.0, 1.0, true, false, "a number in (0, 1]");
+  s.compliance = r.number(j, p, "compliance", s.compliance, 0.0, 1.0, false, false, "a number in [0, 1]");
   s.warm_start = r.boolean(j, p, "warm_start", s.warm_start);
   s.contact_margin = r.positive(j, p, "contact_margin", s.contact_margin);
   s.threads = static_cast<int>(r.integer(j, p, "threads", s.threads, 0, 1024));

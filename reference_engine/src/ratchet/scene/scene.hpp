@@ -43,6 +43,7 @@ struct SolverSettings {
   int anderson_depth = 5;   // memory of the Anderson acceleration, in sweeps
   double theta = 1.0;       // Moreau-Jean theta in [0.5, 1]; 1 = fully implicit
   double p_gap = 0.1;       // fraction of an overlap closed per step, in (0, 1]
+  double compliance = 0.0;  // epsilon >= 0: contact compliance c = epsilon W_nn; 0 = rigid (docs/method.md s. 5)
   bool warm_start = true;
   double contact_margin = 0.05;  // contacts closer than this (length units) are detected
   int threads = 0;          // 0: OpenMP default; results do not depend on it

@@ -26,11 +26,17 @@ template <bool Record>
       // w = u - W lambda (velocity without this contact's impulse) + bias on the normal.
       Vec3 w = u - c.W * c.lambda;
       w[0] += c.bias;
-      lambda_new = solve_local_coulomb(c.W, c.W_inv, w, c.mu).lambda;
+      if (c.compliance > 0.0) {  // the local law on u + c lambda: the block W + c I (docs/method.md s. 5)
+        Mat3 Wc = c.W;
+        Wc.diagonal().array() += c.compliance;
+        lambda_new = solve_local_coulomb(Wc, c.W_inv, w, c.mu).lambda;
+      } else {
+        lambda_new = solve_local_coulomb(c.W, c.W_inv, w, c.mu).lambda;
+      }
       ++tangential;
     } else {
       const double w_n = u[0] - c.W(0, 0) * c.lambda[0] + c.bias;
-      lambda_new = Vec3(solve_local_normal(c.W(0, 0), w_n), 0.0, 0.0);
+      lambda_new = Vec3(solve_local_normal(c.W(0, 0) + c.compliance, w_n), 0.0, 0.0);
     }
     const Vec3 d = lambda_new - c.lambda;
     if (d.squaredNorm() > 0.0) apply_local_impulse(c, d, B, rotation);

@@ -16,14 +16,15 @@ namespace ratchet {
 // What one local solve of the sweep reads and writes, packed in its own array (hot
 // data): the operators are built once per step so that a local solve is a few 3x3
 // products, u = F^T (v_a - v_b) + J_a w_a - J_b w_b + u0 and, for an impulse change d,
-// v_a += m_a^-1 F d, w_a += I_a^-1 J_a^T d (and minus for B). 432 bytes: a bed of 2000
+// v_a += m_a^-1 F d, w_a += I_a^-1 J_a^T d (and minus for B). 440 bytes: a bed of 2000
 // has about 8500 contacts, and every sweep streams them all.
 struct SolverRow {
   int a = 0, b = 0;                // bodies; b may name a wall (core/contact_side.hpp)
   Mat3 F = Mat3::Identity();       // columns n, t1, t2 (world)
   Mat3 Ja = Mat3::Zero(), Jb = Mat3::Zero();  // rows r x e_k: angular velocity -> local velocity
   Mat3 W = Mat3::Zero();           // local Delassus block W = H^T M^-1 H (only W(0,0) without friction)
-  Mat3 W_inv = Mat3::Zero();       // its inverse (the stick solution), with friction only
+  Mat3 W_inv = Mat3::Zero();       // (W + c I)^-1 (the stick solution), with friction only
+  double compliance = 0.0;         // c = solver.compliance * W_nn: the local law holds for u + c lambda (docs/method.md s. 5)
   double mu = 0.0;
   double bias = 0.0;               // b: u_n + b >= 0 is the velocity form of g(t+h) >= 0
   Vec3 u0 = Vec3::Zero();          // F^T u_expansion: the local velocity no body velocity explains

@@ -84,8 +84,15 @@ void World::build_rows() {
         if (!is_wall(c.b)) r.Jb.row(j) = c.rb.cross(r.F.col(j)).transpose();
       }
     }
+    // Compliance relative to the contact's own Delassus diagonal, as MuJoCo's
+    // regularizer R = (1 - d)/d diag(A) (Todorov 2014; docs/method.md s. 5).
+    r.compliance = scene_.solver.compliance * r.W(0, 0);
     r.W_inv.setZero();
-    if (friction_on_) r.W_inv = r.W.inverse();
+    if (friction_on_) {
+      Mat3 Wc = r.W;
+      Wc.diagonal().array() += r.compliance;
+      r.W_inv = Wc.inverse();
+    }
     r.u0 = r.F.transpose() * c.u_expansion;
     // Gap relaxation (docs/method.md s. 5): an overlap closes at p_gap g / h per step.
     const double g = c.geometry.gap;
