@@ -1,0 +1,97 @@
+"""scripts/compare-settings on a small cycled bed: its table must agree with the runs'
+own run.json files, a second call must resume instead of rerunning, and a bad plan must
+stop before any work with the file and field named."""
+
+import json
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+from scipy import stats
+
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+from common.paths import REPO_ROOT, engine_binary  # noqa: E402
+
+RATCHET = engine_binary()
+TOOL = REPO_ROOT / "scripts" / "compare-settings"
+SCENE = REPO_ROOT / "validation" / "sweeps" / "bed_quick.json"
+
+pytestmark = pytest.mark.skipif(not RATCHET.is_file(), reason=f"engine not built ({RATCHET})")
+
+
+def write_plan(folder: Path, **fields) -> Path:
+    plan = {"scene": str(SCENE), "seeds": [1, 2],
+            "set": {"particles.generate.count": 20, "thermal.cycles": 1, "outputs.steady_cycles": [0, 0],
+                    "outputs.displacement": {"cell": 2.0, "windows": [[0, 1]]}},
+            "pack_set": {"solver.acceleration": "anderson", "solver.max_iterations": 5000},
+            "reference": "rigid",
+            "settings": {"rigid": {"solver.acceleration": "anderson", "solver.max_iterations": 5000},
+                         "soft": {"solver.acceleration": "anderson", "solver.max_iterations": 5000,
+                                  "solver.compliance": 0.1}}}
+    plan.update(fields)
+    path = folder / "plan.json"
+    path.write_text(json.dumps(plan))
+    return path
+
+
+def call(*args) -> subprocess.CompletedProcess:
+    return subprocess.run(["/usr/bin/python3", str(TOOL), *map(str, args)], capture_output=True, text=True)
+
+
+@pytest.fixture(scope="module")
+def done(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("compare")
+    plan = write_plan(folder)
+    out = folder / "out"
+    r = call(plan, "--out", out, "--jobs", "2")
+    assert r.returncode == 0, r.stderr
+    return plan, out
+
+
+def test_table_agrees_with_the_runs(done):
+    _, out = done
+    res = json.loads((out / "comparison.json").read_text())
+    assert res["settings"] == ["rigid", "soft"]
+    p_max = {n: [json.loads((out / "runs" / f"{n}-s{s}" / "run.json").read_text())["summary"]["P_max"]
+                 for s in (1, 2)] for n in ("rigid", "soft")}
+    for n in ("rigid", "soft"):
+        e = res["observables"]["P_max"][n]
+        assert e["n"] == 2
+        assert e["mean"] == pytest.approx(np.mean(p_max[n]), rel=1e-12)
+        assert e["se"] == pytest.approx(np.std(p_max[n], ddof=1) / np.sqrt(2), rel=1e-12)
+    soft = res["observables"]["P_max"]["soft"]
+    assert soft["shift"] == pytest.approx(np.mean(p_max["soft"]) - np.mean(p_max["rigid"]), rel=1e-12)
+    assert soft["p"] == pytest.approx(stats.ttest_ind(p_max["soft"], p_max["rigid"], equal_var=False).pvalue)
+    assert soft["bias"] == (soft["p"] < 0.05)
+    # The compliant runs really ran compliant, from the same packings as the rigid ones.
+    for s in (1, 2):
+        run = json.loads((out / "runs" / f"soft-s{s}" / "run.json").read_text())
+        assert run["scene"]["solver"]["compliance"] == 0.1
+        assert run["packing"]["file"].endswith(f"s{s}.state")
+    assert (out / "comparison.md").read_text().count("|") > 10
+    assert (out / "figures" / "compare_settings.png").stat().st_size > 1000
+
+
+def test_second_call_resumes(done):
+    plan, out = done
+    before = {p: p.stat().st_mtime_ns for p in (out / "runs").glob("*/run.json")}
+    r = call(plan, "--out", out)
+    assert r.returncode == 0, r.stderr
+    assert {p: p.stat().st_mtime_ns for p in (out / "runs").glob("*/run.json")} == before
+
+
+@pytest.mark.parametrize("fields, expected", [
+    ({"setings": {}}, "field 'setings': unknown field"),
+    ({"reference": "none"}, "field 'reference': expected one of the settings"),
+    ({"seeds": [1]}, "at least 2 seeds"),
+    ({"scene": "missing.json"}, "no such file"),
+])
+def test_bad_plan_stops_before_any_work(tmp_path, fields, expected):
+    plan = write_plan(tmp_path, **fields)
+    r = call(plan, "--out", tmp_path / "out")
+    assert r.returncode == 2
+    assert str(plan) in r.stderr and expected in r.stderr
+    assert not (tmp_path / "out").exists()
