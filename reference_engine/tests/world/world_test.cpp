@@ -105,6 +105,29 @@ TEST(World, FrictionOffAndMuZeroGiveIdenticalTrajectories) {
   EXPECT_NE(trajectory(heap_scene()).back(), a.back());
 }
 
+// The step records the largest overlap it found: a sphere listed 0.1 into the floor
+// starts with exactly that overlap, and the gap relaxation then removes a fraction p_gap
+// of it per step (docs/method.md s. 5), without gravity to press it back.
+TEST(World, MaxOverlapIsTheDeepestContactAndShrinksByPGapPerStep) {
+  World world(build_scene(json::parse(R"({
+    "name": "sunk", "time": {"dt": 0.01, "duration": 0.05}, "effects": {"gravity": false},
+    "solver": {"p_gap": 0.2, "tolerance": 1e-12},
+    "container": {"type": "planes", "planes": [{"normal": [0, 0, 1], "point": [0, 0, 0]}]},
+    "particles": {"bodies": [{"shape": "sphere", "radius": 0.5, "position": [0, 0, 0.4]}]}
+  })"), "sunk.json"));
+  world.step();
+  EXPECT_NEAR(world.stats().max_overlap, 0.1, 1e-12);  // geometry only: round-off
+  world.step();
+  EXPECT_NEAR(world.stats().max_overlap, 0.1 * (1.0 - 0.2), 1e-12);  // one step of relaxation
+  World apart(build_scene(json::parse(R"({
+    "name": "apart", "time": {"dt": 0.01, "duration": 0.05}, "effects": {"gravity": false},
+    "container": {"type": "planes", "planes": [{"normal": [0, 0, 1], "point": [0, 0, 0]}]},
+    "particles": {"bodies": [{"shape": "sphere", "radius": 0.5, "position": [0, 0, 0.52]}]}
+  })"), "apart.json"));
+  apart.step();
+  EXPECT_EQ(apart.stats().max_overlap, 0.0);  // a contact within the margin, not overlapping
+}
+
 TEST(World, SameSceneTwiceGivesIdenticalBytes) {
   namespace fs = std::filesystem;
   const fs::path base = fs::temp_directory_path() / "ratchet_world_determinism";

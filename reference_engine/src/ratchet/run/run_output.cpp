@@ -22,7 +22,7 @@ RunOutput::RunOutput(const std::string& dir, const std::vector<std::string>& ext
   bodies_ = std::make_unique<AtomicFile>(dir_ + "/bodies.csv");
   auto& ts = timeseries_->stream();
   ts << "step,t,T,s_p,s_c,kinetic_energy,contacts,iterations,residual,wall_force_side,wall_force_bottom,"
-        "wall_force_total,bed_height,pressure";
+        "wall_force_total,bed_height,pressure,max_overlap";
   for (const char* name : kPhaseNames) ts << ",time_" << name;
   for (const std::string& name : extra_columns) ts << ',' << name;
   ts << "\n";
@@ -39,7 +39,7 @@ void RunOutput::write_timeseries_row(const World& world, const std::vector<doubl
     << format_double(s.s_c) << ',' << format_double(kinetic_energy(sc, s)) << ',' << st.contacts << ','
     << st.iterations << ',' << format_double(st.residual) << ',' << format_double(st.wall_force_side) << ','
     << format_double(st.wall_force_bottom) << ',' << format_double(st.wall_force_total) << ',' << format_double(H)
-    << ',' << format_double(side_wall_pressure(sc, s, st.wall_force_side, H));
+    << ',' << format_double(side_wall_pressure(sc, s, st.wall_force_side, H)) << ',' << format_double(st.max_overlap);
   for (double t : world.timers().last_step) o << ',' << format_double(t);
   for (double v : extra) o << ',' << format_double(v);
   o << '\n';

@@ -39,6 +39,7 @@ void World::build_rows() {
   // drop it (world/test_hooks.hpp).
   const double eps_wall = test_hooks().drop_wall_expansion ? 0.0 : scratch_.eps_c;
   s.rows.resize(s.contacts.size());
+  double min_gap = 0.0;
   for (std::size_t k = 0; k < s.contacts.size(); ++k) {
     SolverContact& c = s.contacts[k];
     SolverRow& r = s.rows[k];
@@ -96,6 +97,7 @@ void World::build_rows() {
     r.u0 = r.F.transpose() * c.u_expansion;
     // Gap relaxation (docs/method.md s. 5): an overlap closes at p_gap g / h per step.
     const double g = c.geometry.gap;
+    min_gap = std::min(min_gap, g);
     const double g_eff = g >= 0.0 ? g : p_gap * g;
     // Velocity-level Signorini: u_n(t+h) >= -g_eff / h. Theta enters the position update
     // only; a gap-based bias with theta < 1 would turn an inelastic landing into a rebound.
@@ -103,6 +105,7 @@ void World::build_rows() {
     r.lambda.setZero();
     c.lambda.setZero();
   }
+  stats_.max_overlap = min_gap < 0.0 ? -min_gap : 0.0;  // not -0
 }
 
 // Impulses of the previous step for the same (bodies, features), projected onto the

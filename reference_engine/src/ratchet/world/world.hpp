@@ -32,6 +32,7 @@ struct StepStats {
   double wall_force_side = 0.0;    // total normal force on the side walls
   double wall_force_bottom = 0.0;  // normal force on the bottom
   double wall_force_total = 0.0;   // normal force on all walls (side, bottom and plain planes)
+  double max_overlap = 0.0;        // the largest overlap (-gap) among the step's contacts as detected, 0 if none
   std::int64_t tangential_solves = 0;  // accumulated over the run
   std::int64_t total_iterations = 0;   // accumulated over the run
   std::int64_t unconverged_steps = 0;  // steps that hit solver.max_iterations
