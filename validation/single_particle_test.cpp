@@ -81,6 +81,33 @@ TEST(SingleExpandingParticle, SphereHeightFollowsExpansion) {
 
 class JammedSphere : public ::testing::TestWithParam<double> {};
 
+// What the jam tests watch: the total wall force in the hold at T1 (away from its ends),
+// at the end, the kinetic energy and the steps stopped at the cap.
+struct JamTrace {
+  double force_hold_first = -1.0, force_hold_min = HUGE_VAL, force_hold_max = 0.0, force_end = -1.0, max_ke = 0.0;
+  int unconverged_steps = 0;
+};
+
+JamTrace run_jam(const SceneDef& scene) {
+  World world(scene);
+  const ThermalProtocol& th = scene.thermal;
+  const double hold_begin = th.heat_time, hold_end = th.heat_time + th.hold_time;
+  JamTrace j;
+  run_world(world, {}, [&](const World& w) {
+    const double t = w.state().t;
+    const double F = w.stats().wall_force_total;
+    j.max_ke = std::max(j.max_ke, kinetic_energy(w.scene(), w.state()));
+    j.unconverged_steps += w.stats().converged ? 0 : 1;
+    if (t > hold_begin + 0.1 && t < hold_end - 0.1) {
+      if (j.force_hold_first < 0.0) j.force_hold_first = F;
+      j.force_hold_min = std::min(j.force_hold_min, F);
+      j.force_hold_max = std::max(j.force_hold_max, F);
+    }
+    j.force_end = F;
+  });
+  return j;
+}
+
 // A sphere growing into two fixed walls has no rigid solution: the sweeps hit
 // max_iterations with the normal impulse growing with the sweep count. The engine must
 // keep that from compounding over steps: the force must not grow while nothing moves
@@ -90,22 +117,11 @@ TEST_P(JammedSphere, WallForcesStayBoundedAndKineticEnergySmall) {
   const double p_gap = GetParam();
   const std::string case_name = "jammed sphere, p_gap = " + validation::format_number(p_gap);
   SceneDef scene = load_scene(kDir + "sphere_walls.json", {"solver.p_gap=" + validation::format_number(p_gap)});
-  World world(scene);
   const ThermalProtocol& th = scene.thermal;
-  const double hold_begin = th.heat_time, hold_end = th.heat_time + th.hold_time;
-  double force_hold_first = -1.0, force_hold_max = 0.0, force_end = -1.0, max_ke = 0.0;
-  int unconverged_steps = 0;
-  run_world(world, {}, [&](const World& w) {
-    const double t = w.state().t;
-    const double F = w.stats().wall_force_total;
-    max_ke = std::max(max_ke, kinetic_energy(w.scene(), w.state()));
-    unconverged_steps += w.stats().converged ? 0 : 1;
-    if (t > hold_begin + 0.1 && t < hold_end - 0.1) {
-      if (force_hold_first < 0.0) force_hold_first = F;
-      force_hold_max = std::max(force_hold_max, F);
-    }
-    force_end = F;
-  });
+  const JamTrace j = run_jam(scene);
+  const double force_hold_first = j.force_hold_first, force_hold_max = j.force_hold_max, force_end = j.force_end,
+               max_ke = j.max_ke;
+  const int unconverged_steps = j.unconverged_steps;
   const double eps = th.alpha_p * (th.T1 - th.T0) / th.heat_time;  // d s_p / dt on the ramps
   const double drift_ke = 0.5 * scene.bodies[0].mass * eps * eps;   // r = 1
   EXPECT_GT(unconverged_steps, 0);  // the jam is real: it must show in the solver record
@@ -130,22 +146,11 @@ TEST(JammedSphereCompliant, EveryStepConvergesAndTheHoldForceIsTheCompliantLaw) 
   // The squeeze (both walls pressing alike) is a self-stress: Gauss-Seidel contracts it
   // by about 1 - epsilon per sweep, so the tolerance 1e-8 takes some 600 sweeps here.
   SceneDef scene = load_scene(kDir + "sphere_walls.json", {"solver.compliance=0.03", "solver.max_iterations=5000"});
-  World world(scene);
   const ThermalProtocol& th = scene.thermal;
-  const double hold_begin = th.heat_time, hold_end = th.heat_time + th.hold_time;
-  double force_hold_min = HUGE_VAL, force_hold_max = 0.0, force_end = -1.0, max_ke = 0.0;
-  int unconverged_steps = 0;
-  run_world(world, {}, [&](const World& w) {
-    const double t = w.state().t;
-    const double F = w.stats().wall_force_total;
-    max_ke = std::max(max_ke, kinetic_energy(w.scene(), w.state()));
-    unconverged_steps += w.stats().converged ? 0 : 1;
-    if (t > hold_begin + 0.1 && t < hold_end - 0.1) {
-      force_hold_min = std::min(force_hold_min, F);
-      force_hold_max = std::max(force_hold_max, F);
-    }
-    force_end = F;
-  });
+  const JamTrace j = run_jam(scene);
+  const double force_hold_min = j.force_hold_min, force_hold_max = j.force_hold_max, force_end = j.force_end,
+               max_ke = j.max_ke;
+  const int unconverged_steps = j.unconverged_steps;
   const std::string case_name = "jammed sphere, compliance 0.03";
   const double m = scene.bodies[0].mass, h = scene.dt, p_gap = scene.solver.p_gap;
   const double delta = th.alpha_p * (th.T1 - th.T0) * 1.0 - 0.002;  // r = 1
