@@ -36,7 +36,7 @@ TIER_SCALE = {
     "quick": "CI scale: a small bed, a few cycles, typically one realization per point; "
              "the steady state is not reached, so trends are checked in sign and roughly",
     "standard": "reduced scale (fewer particles, cycles and realizations than the paper, "
-                "about an hour on 2 cores); trends checked with loosened tolerances",
+                "about 10 minutes on 2 cores); trends checked with loosened tolerances",
     "paper": "the paper's scale: 2000 particles, 20 cycles, 5 realizations per point",
 }
 
