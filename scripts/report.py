@@ -41,6 +41,16 @@ from common.figures import figure_caption, save_figure  # noqa: E402,F401  (part
 from common.fsutil import write_atomic  # noqa: E402
 from common.gitinfo import git_commit  # noqa: E402
 from common.paths import REPO_ROOT, build_dir as default_build_dir  # noqa: E402
+from analysis import headline  # noqa: E402
+
+#: Stored results of the larger tiers (scripts/trends --store), shown in every report.
+RESULTS_DIR = REPO_ROOT / "validation" / "results"
+NO_SWEEP_TEXT = (
+    "This run ran no sweep, so it measures none of the paper's trends itself: the quick "
+    "tier's sweeps (45 particles, one realization per point, `scripts/validate --sweeps`) "
+    "do not resolve the 6 deg halving or the quadratic fits (docs/trends.md). The stored "
+    "results of larger tiers follow, with their date and engine commit; a not-resolved row "
+    "says what it would take.")
 
 #: Fields of one JSON line, in the order the writer emits them.
 FIELDS = ("case", "check", "measured", "expected", "tolerance", "reason", "passed")
@@ -48,6 +58,7 @@ FIELDS = ("case", "check", "measured", "expected", "tolerance", "reason", "passe
 TABLE_COLUMNS = ("case", "check", "expected", "measured", "tolerance", "result")
 REPORT_NAMES = ("report.md", "report.html")
 NON_FINITE = "non-finite"
+NOT_RESOLVED = "NOT RESOLVED"
 
 
 class CheckFileError(Exception):
@@ -76,6 +87,8 @@ def _parse_line(line: str, where: str) -> dict:
         raise CheckFileError(f"{where}: 'measured' must be a number or null, got {measured!r}")
     if not isinstance(obj["passed"], bool):
         raise CheckFileError(f"{where}: 'passed' must be true or false, got {obj['passed']!r}")
+    if not isinstance(obj.get("resolved", True), bool):
+        raise CheckFileError(f"{where}: 'resolved' must be true or false, got {obj['resolved']!r}")
     value = math.nan if measured is None else float(measured)
     finite = math.isfinite(value)
     return {
@@ -87,6 +100,8 @@ def _parse_line(line: str, where: str) -> dict:
         "reason": _text(obj["reason"]),
         # A measurement that is not a number never passes, whatever the writer said.
         "passed": bool(obj["passed"]) and finite,
+        # Within tolerance, yet too uncertain to show the paper's statement.
+        "resolved": bool(obj.get("resolved", True)),
         "source": where,
     }
 
@@ -110,9 +125,11 @@ def load_checks(checks_dir: str | os.PathLike) -> pd.DataFrame:
                         rows.append(_parse_line(line, f"{path}:{number}"))
         except OSError as error:
             raise CheckFileError(f"cannot read {path}: {error.strerror}") from None
-    columns = ["case", "check", "expected", "measured", "tolerance", "reason", "passed", "source"]
+    columns = ["case", "check", "expected", "measured", "tolerance", "reason", "passed", "resolved",
+               "source"]
     frame = pd.DataFrame(rows, columns=columns)
     frame["passed"] = frame["passed"].astype(bool)
+    frame["resolved"] = frame["resolved"].astype(bool)
     frame["measured"] = frame["measured"].astype(float)
     return frame.sort_values(["case", "check"], kind="stable").reset_index(drop=True)
 
@@ -131,17 +148,24 @@ def table_rows(checks: pd.DataFrame) -> list[dict]:
             "expected": row.expected,
             "measured": format_measured(row.measured),
             "tolerance": row.tolerance,
-            "result": "PASS" if row.passed else "FAIL",
+            "result": result_text(row.passed, row.resolved),
             "reason": row.reason,
         }
         for row in checks.itertuples(index=False)
     ]
 
 
-def totals(checks: pd.DataFrame) -> tuple[int, int]:
-    """(passed, failed)."""
-    passed = int(checks["passed"].sum())
-    return passed, len(checks) - passed
+def result_text(passed: bool, resolved: bool) -> str:
+    if not passed:
+        return "FAIL"
+    return "PASS" if resolved else NOT_RESOLVED
+
+
+def totals(checks: pd.DataFrame) -> tuple[int, int, int]:
+    """(passed, failed, not resolved): a not-resolved check neither passes nor fails."""
+    failed = int((~checks["passed"]).sum())
+    unresolved = int((checks["passed"] & ~checks["resolved"]).sum())
+    return len(checks) - failed - unresolved, failed, unresolved
 
 
 # --------------------------------------------------------------------------- metadata
@@ -260,7 +284,7 @@ def render_terminal(checks: pd.DataFrame, color: bool = False) -> str:
     def line(values: dict, paint: bool) -> str:
         cells = [values[c].ljust(widths[c]) for c in TABLE_COLUMNS]
         if paint:
-            code = "32" if values["result"] == "PASS" else "31;1"
+            code = {"PASS": "32", NOT_RESOLVED: "33"}.get(values["result"], "31;1")
             cells[-1] = f"\x1b[{code}m{cells[-1]}\x1b[0m"
         return " | ".join(cells).rstrip()
 
@@ -275,9 +299,14 @@ def render_terminal(checks: pd.DataFrame, color: bool = False) -> str:
             why = f" ({r['reason']})" if r["reason"] else ""
             out.append(f"  {r['case']} / {r['check']}: measured {r['measured']}, "
                        f"expected {r['expected']}, tolerance {r['tolerance']}{why}")
-    passed, failed = totals(checks)
+    unresolved_rows = [r for r in rows if r["result"] == NOT_RESOLVED]
+    if unresolved_rows:
+        out.append("")
+        out.append("Not resolved (within tolerance, but not showing the paper's statement):")
+        for r in unresolved_rows:
+            out.append(f"  {r['case']} / {r['check']}: measured {r['measured']}; {r['reason']}")
     out.append("")
-    out.append(f"checks: {passed} passed, {failed} failed")
+    out.append(f"checks: {_counts_text(*totals(checks))}")
     return "\n".join(out) + "\n"
 
 
@@ -289,29 +318,47 @@ def _md_link(path: str) -> str:
     return urllib.parse.quote(path, safe="/._-")
 
 
-def _verdict(passed: int, failed: int) -> str:
-    total = passed + failed
+def _counts_text(passed: int, failed: int, unresolved: int) -> str:
+    return f"{passed} passed, {failed} failed" + (f", {unresolved} not resolved" if unresolved else "")
+
+
+def _verdict(passed: int, failed: int, unresolved: int = 0) -> str:
+    total = passed + failed + unresolved
     if failed:
         return f"FAILED: {failed} of {total} checks failed"
+    if unresolved:
+        return (f"PASSED with {unresolved} of {total} checks not resolved: no check failed, but "
+                f"{unresolved} cannot show the paper's statement at this scale")
     return f"PASSED: all {total} checks passed"
+
+
+def headline_sources(current: dict | None, stored: Sequence[dict]) -> list[tuple[str, dict]]:
+    return ([("This run", current)] if current else []) + [("Stored", r) for r in stored]
 
 
 def render_markdown(checks: pd.DataFrame, meta: dict[str, str] | None = None,
                     figures: Iterable[Path] = (), out_dir: str | os.PathLike = ".",
-                    notes: Iterable[Path] = ()) -> str:
+                    notes: Iterable[Path] = (), current: dict | None = None,
+                    stored: Sequence[dict] = ()) -> str:
     """Markdown report; figures are linked relative to out_dir (where report.md goes)."""
-    passed, failed = totals(checks)
+    counts = totals(checks)
     columns = list(TABLE_COLUMNS) + ["reason"]
     out = ["# Validation report", ""]
     for key, value in (meta or {}).items():
         out.append(f"- {key}: {value}")
-    out.append(f"- Checks: {passed} passed, {failed} failed, {passed + failed} total")
-    out += ["", f"**{_verdict(passed, failed)}**", "",
+    out.append(f"- Checks: {_counts_text(*counts)}, {sum(counts)} total")
+    out += ["", f"**{_verdict(*counts)}**", "", "## The paper's headline trends"]
+    if not current:
+        out += ["", NO_SWEEP_TEXT]
+    out += headline.render_markdown(headline_sources(current, stored))
+    if not current and not stored:
+        out += ["", "No stored result (validation/results/ is empty)."]
+    out += ["", "## Checks of this run", "",
             "| " + " | ".join(columns) + " |",
             "|" + "|".join("---" for _ in columns) + "|"]
     for r in table_rows(checks):
         cells = dict(r)
-        cells["result"] = "PASS" if r["result"] == "PASS" else "**FAIL**"
+        cells["result"] = {"PASS": "PASS", NOT_RESOLVED: f"*{NOT_RESOLVED}*"}.get(r["result"], "**FAIL**")
         out.append("| " + " | ".join(_md_cell(cells[c]) for c in columns) + " |")
     figures = list(figures)
     if figures:
@@ -336,6 +383,7 @@ th { background: #eee; }
 td.num { font-family: monospace; }
 tr.pass td.result { background: #d8f0d8; color: #185c18; font-weight: bold; }
 tr.fail td { background: #fbe3e3; }
+tr.unresolved td.result { background: #fff1c2; color: #6b5200; font-weight: bold; }
 tr.fail td.result { background: #f3b7b7; color: #8a1010; font-weight: bold; }
 .verdict { padding: 0.5em 1em; display: inline-block; font-weight: bold; border-radius: 4px; }
 .verdict.pass { background: #d8f0d8; color: #185c18; }
@@ -346,25 +394,32 @@ figure img { max-width: 100%; border: 1px solid #ddd; }
 
 
 def render_html(checks: pd.DataFrame, meta: dict[str, str] | None = None,
-                figures: Iterable[Path] = (), notes: Iterable[Path] = ()) -> str:
+                figures: Iterable[Path] = (), notes: Iterable[Path] = (),
+                current: dict | None = None, stored: Sequence[dict] = ()) -> str:
     """Self-contained HTML report (inline CSS, figures embedded as base64)."""
     esc = html.escape
-    passed, failed = totals(checks)
+    counts = totals(checks)
+    passed, failed, unresolved = counts
     columns = list(TABLE_COLUMNS) + ["reason"]
     out = ["<!DOCTYPE html>", '<html lang="en">', "<head>", '<meta charset="utf-8">',
            "<title>Validation report</title>", f"<style>{_CSS}</style>", "</head>", "<body>",
            "<h1>Validation report</h1>", "<ul>"]
     for key, value in (meta or {}).items():
         out.append(f"<li>{esc(key)}: {esc(value)}</li>")
-    out.append(f"<li>Checks: {passed} passed, {failed} failed, {passed + failed} total</li>")
+    out.append(f"<li>Checks: {esc(_counts_text(*counts))}, {sum(counts)} total</li>")
     out.append("</ul>")
     verdict_class = "fail" if failed else "pass"
-    out.append(f'<p class="verdict {verdict_class}">{esc(_verdict(passed, failed))}</p>')
+    out.append(f'<p class="verdict {verdict_class}">{esc(_verdict(*counts))}</p>')
+    out.append("<h2>The paper's headline trends</h2>")
+    if not current:
+        out.append(f"<p>{esc(NO_SWEEP_TEXT)}</p>")
+    out += headline.render_html(headline_sources(current, stored))
+    out.append("<h2>Checks of this run</h2>")
     out.append("<table>")
     out.append("<thead><tr>" + "".join(f"<th>{esc(c)}</th>" for c in columns) + "</tr></thead>")
     out.append("<tbody>")
     for r in table_rows(checks):
-        row_class = "pass" if r["result"] == "PASS" else "fail"
+        row_class = {"PASS": "pass", NOT_RESOLVED: "unresolved"}.get(r["result"], "fail")
         cells = []
         for c in columns:
             css = {"measured": "num", "expected": "num", "tolerance": "num", "result": "result"}.get(c)
@@ -414,6 +469,9 @@ def _parse_args(argv: Sequence[str] | None) -> argparse.Namespace:
     parser.add_argument("--out", required=True, metavar="DIR",
                         help="folder for report.md and report.html; PNGs in DIR/figures are embedded")
     parser.add_argument("--tier", metavar="NAME", help="validation tier, shown in the report header")
+    parser.add_argument("--results", metavar="DIR", default=str(RESULTS_DIR),
+                        help="stored headline results of larger tiers (default: validation/results); "
+                             "OUT/trends.json, when a sweep of this run wrote it, comes first")
     parser.add_argument("--build-dir", metavar="DIR",
                         default=None,
                         help="build folder to read the engine version from, relative to the "
@@ -458,11 +516,23 @@ def main(argv: Sequence[str] | None = None) -> int:
     meta = collect_metadata(build_dir, args.tier, args.checks)
     figures = find_figures(out_dir)
     notes = find_notes(out_dir)
+    try:
+        stored = headline.load_records(Path(args.results))
+        current = None
+        if (out_dir / "trends.json").is_file():
+            document = json.loads((out_dir / "trends.json").read_text(encoding="utf-8"))
+            current = headline.from_trends(document, engine_commit=meta.get("Git commit", "unknown"),
+                                           command="this run", scale=document.get("tier_scale", ""))
+    except headline.RecordError as problem:
+        return no_report(str(problem), 2)
+    except (OSError, ValueError, KeyError) as problem:
+        return no_report(f"cannot read {out_dir / 'trends.json'}: {problem}", 2)
 
     try:
         out_dir.mkdir(parents=True, exist_ok=True)
-        write_atomic(out_dir / "report.md", render_markdown(checks, meta, figures, out_dir, notes))
-        write_atomic(out_dir / "report.html", render_html(checks, meta, figures, notes))
+        write_atomic(out_dir / "report.md", render_markdown(checks, meta, figures, out_dir, notes,
+                                                            current, stored))
+        write_atomic(out_dir / "report.html", render_html(checks, meta, figures, notes, current, stored))
     except OSError as error:
         return no_report(f"cannot write the report in {out_dir}: {error}", 2)
 
@@ -471,7 +541,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     sys.stdout.write(body + "\n")
     print(f"report: wrote {out_dir / 'report.md'} and {out_dir / 'report.html'}")
     print(last)
-    _, failed = totals(checks)
+    _, failed, _ = totals(checks)
     return 1 if failed else 0
 
 

@@ -7,6 +7,9 @@ Modules:
 - plots:  figures mirroring the paper's, saved in OUT/figures/
 - output: JSONL check lines, trends.json, trends.md, the terminal table
 - cli:    the command line of scripts/trends
+- headline: the paper's headline trends as a stored record (validation/results/) and
+          the report's first section
+- run_plot: the figure and summary of one run folder (scripts/plot-run)
 
 Run with Debian's interpreter, /usr/bin/python3.
 """

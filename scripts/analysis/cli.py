@@ -4,7 +4,7 @@ scripts/trends SWEEP_OUT_DIR [SWEEP_OUT_DIR ...] --out OUT [--checks DIR]
                [--tier quick|standard|paper] [--no-plots]
 scripts/trends --list-checks
 
-Exit status: 0 no check failed (skipped checks do not fail); 1 a check failed;
+Exit status: 0 no check failed (skipped and not-resolved checks do not fail); 1 a check failed;
 2 usage error, a sweep folder that cannot be read, or an unwritable output.
 """
 
@@ -21,7 +21,10 @@ from typing import Sequence
 from common.fsutil import write_atomic
 from common.jsonsafe import dumps
 
-from . import output, plots, trends
+from common.gitinfo import git_commit
+from common.paths import REPO_ROOT
+
+from . import headline, output, plots, trends
 from .inputs import InputError, load_sweep
 
 
@@ -32,7 +35,7 @@ def _parse(argv: Sequence[str] | None) -> argparse.Namespace:
                     "container.opening_angle_deg, ratio sweeps thermal.alpha_c), draws the "
                     "figures and writes OUT/trends.json, OUT/trends.md and one JSON line per "
                     "check for scripts/report.py.",
-        epilog="Exit status: 0 no check failed (skipped checks do not fail); 1 a check "
+        epilog="Exit status: 0 no check failed (skipped and not-resolved checks do not fail); 1 a check "
                "failed; 2 usage error, unreadable sweep or unwritable output.")
     parser.add_argument("sweeps", nargs="*", metavar="SWEEP_OUT_DIR",
                         help="sweep output folder holding summary.csv (and runs/<run>/)")
@@ -46,6 +49,14 @@ def _parse(argv: Sequence[str] | None) -> argparse.Namespace:
     parser.add_argument("--no-plots", action="store_true", help="skip the figures")
     parser.add_argument("--list-checks", action="store_true",
                         help="print the check definitions (rules, tolerances, reasons) and exit")
+    store = parser.add_argument_group("storing the headline (docs/trends.md, 'Stored results')")
+    store.add_argument("--store", metavar="FILE",
+                       help="also write the headline record of this analysis to FILE (e.g. "
+                            "validation/results/standard.json), shown by every validation report")
+    store.add_argument("--engine-commit", metavar="COMMIT",
+                       help="commit of the engine that ran the sweeps (default: this checkout's HEAD)")
+    store.add_argument("--command", dest="store_command", metavar="TEXT",
+                       help="the command that ran the sweeps (default: scripts/validate --tier TIER)")
     args = parser.parse_args(argv)
     if args.list_checks:
         return args
@@ -139,6 +150,15 @@ def main(argv: Sequence[str] | None = None) -> int:
                                           output.checks_file_name(s.folder for s in sweeps),
                                           results)
         write_atomic(out_dir / "trends.json", dumps(document))
+        if args.store:
+            commit = args.engine_commit or git_commit(REPO_ROOT, short=12)[0] or "unknown"
+            runs = ", ".join(f"{s.name}: {len(s.completed)} runs" for s in sweeps)
+            record = headline.from_trends(
+                document, engine_commit=commit,
+                command=args.store_command or f"scripts/validate --tier {args.tier}",
+                scale=f"{runs} ({trends.TIER_SCALE[args.tier]})")
+            Path(args.store).parent.mkdir(parents=True, exist_ok=True)
+            write_atomic(Path(args.store), dumps(record))
         write_atomic(out_dir / "trends.md",
                      output.render_markdown(meta, analyses, results, figures, notes, out_dir))
     except OSError as problem:
@@ -151,6 +171,9 @@ def main(argv: Sequence[str] | None = None) -> int:
         if r.status == "failed":
             print(f"FAILED {r.case} / {r.check}: {r.reason}")
     for r in results:
+        if r.status == "unresolved":
+            print(f"NOT RESOLVED {r.case} / {r.check}: {r.reason.split('. ')[0]}")
+    for r in results:
         if r.status == "skipped":
             print(f"SKIPPED {r.case} / {r.check}: {r.reason.removeprefix('skipped: ')}")
     for note in notes:
@@ -159,5 +182,5 @@ def main(argv: Sequence[str] | None = None) -> int:
     print(f"trends: wrote {out_dir / 'trends.json'}, {out_dir / 'trends.md'}, "
           f"{len(figures)} figure(s), {written}")
     print(f"trends: {total['passed']} passed, {total['failed']} failed, "
-          f"{total['skipped']} skipped")
+          f"{total['unresolved']} not resolved, {total['skipped']} skipped")
     return 1 if total["failed"] else 0

@@ -35,7 +35,8 @@ def checks_file_name(folders: Iterable[Path]) -> str:
 
 
 def write_checks(folder: Path, name: str, results) -> Path | None:
-    """One JSON line per passed or failed check (skipped ones have no such state).
+    """One JSON line per passed, failed or not-resolved check (skipped ones have no
+    such state).
     With none, an earlier file of the same name is removed (it would not describe
     this run). Returns the path written, or None."""
     folder.mkdir(parents=True, exist_ok=True)
@@ -58,7 +59,7 @@ def _measured(value) -> str:
     return f"{value:.6g}"
 
 
-RESULT_TEXT = {"passed": "PASS", "failed": "FAIL", "skipped": "SKIP"}
+RESULT_TEXT = {"passed": "PASS", "failed": "FAIL", "unresolved": "NOT RESOLVED", "skipped": "SKIP"}
 
 
 def terminal_table(results) -> str:
@@ -79,7 +80,7 @@ def terminal_table(results) -> str:
 
 
 def counts(results) -> dict:
-    out = {"passed": 0, "failed": 0, "skipped": 0}
+    out = {"passed": 0, "failed": 0, "unresolved": 0, "skipped": 0}
     for r in results:
         out[r.status] += 1
     return out
@@ -104,14 +105,15 @@ def render_markdown(meta: dict, analyses, results, figures: list[Path], notes: l
     for key, value in meta.items():
         out.append(f"- {key}: {value}")
     out += [f"- Checks: {total['passed']} passed, {total['failed']} failed, "
-            f"{total['skipped']} skipped", "",
+            f"{total['unresolved']} not resolved, {total['skipped']} skipped", "",
             f"**{verdict}**" + (" (skipped checks lacked data; they are not passes)"
                                 if total["skipped"] else ""), "",
             "## Checks", "",
             "| case | check | measured | expected | tolerance | result | reason |",
             "|---|---|---|---|---|---|---|"]
     for r in results:
-        result = {"passed": "PASS", "failed": "**FAIL**", "skipped": "SKIP"}[r.status]
+        result = {"passed": "PASS", "failed": "**FAIL**", "unresolved": "*NOT RESOLVED*",
+                  "skipped": "SKIP"}[r.status]
         out.append(f"| {_md(r.case)} | {_md(r.check)} | {_measured(r.measured)} | "
                    f"{_md(r.expected)} | {_md(r.tolerance)} | {result} | {_md(r.reason)} |")
     if notes:

@@ -118,6 +118,35 @@ def test_one_failure_makes_exit_one(folders, capsys):
     assert '<tr class="fail">' in page and '<tr class="pass">' in page
 
 
+def test_a_not_resolved_check_is_neither_a_pass_nor_a_failure(folders, capsys):
+    checks, out = folders
+    unresolved = dict(check("trends_angle:angle", "P_max(6 deg)/P_max(0 deg)", 0.61, "0.5",
+                            "abs 0.497", "not resolved at this tier: 2 sigma_R = 0.497", True),
+                      resolved=False)
+    write_checks(checks, [MIXED[0], unresolved])
+    assert run(checks, out) == 0
+    captured = capsys.readouterr().out
+    assert "NOT RESOLVED" in captured and "2 sigma_R = 0.497" in captured
+    assert captured.splitlines()[-1] == "checks: 1 passed, 0 failed, 1 not resolved"
+    markdown = (out / "report.md").read_text(encoding="utf-8")
+    assert "*NOT RESOLVED*" in markdown and "PASSED with 1 of 2 checks not resolved" in markdown
+    assert '<tr class="unresolved">' in (out / "report.html").read_text(encoding="utf-8")
+
+
+def test_a_failed_check_stays_failed_whatever_resolved_says(folders, capsys):
+    checks, out = folders
+    write_checks(checks, [dict(MIXED[1], resolved=False)])
+    assert run(checks, out) == 1
+    assert capsys.readouterr().out.splitlines()[-1] == "checks: 0 passed, 1 failed"
+
+
+def test_a_resolved_field_that_is_not_a_bool_is_malformed(folders, capsys):
+    checks, out = folders
+    write_checks(checks, [dict(MIXED[0], resolved="no")])
+    assert run(checks, out) == 2
+    assert "'resolved' must be true or false" in capsys.readouterr().err
+
+
 def test_empty_folder_exits_one_with_a_message(folders, capsys):
     checks, out = folders
     checks.mkdir()
@@ -263,3 +292,54 @@ def test_command_line_with_debian_python(folders):
     assert done.returncode == 1, done.stderr
     assert done.stdout.splitlines()[-1] == "checks: 2 passed, 1 failed"
     assert "\x1b[" not in done.stdout
+
+
+# --------------------------------------------------------------------------- headline
+
+STORED = Path(__file__).resolve().parents[2] / "validation" / "results"
+
+
+def test_the_report_leads_with_the_stored_headline(folders):
+    checks, out = folders
+    write_checks(checks, [MIXED[0]])
+    assert run(checks, out) == 0
+    markdown = (out / "report.md").read_text(encoding="utf-8")
+    head, _, table = markdown.partition("## Checks of this run")
+    assert "## The paper's headline trends" in head and "This run ran no sweep" in head
+    # Every stored record appears with its tier, date and engine commit, before the table.
+    for path in sorted(STORED.glob("*.json")):
+        record = json.loads(path.read_text(encoding="utf-8"))
+        assert (f"Stored: {record['tier']} tier, {record['generated']}, engine commit "
+                f"{record['engine_commit']}") in head
+    assert "z(t=1)" in table and "z(t=1)" not in head
+
+
+def test_a_sweep_of_this_run_comes_first(folders, tmp_path):
+    checks, out = folders
+    write_checks(checks, [MIXED[0]])
+    out.mkdir(parents=True)
+    document = {"tier": "quick", "tier_scale": "CI scale", "generated": "2026-01-01 00:00:00 UTC",
+                "analyses": [], "counts": {},
+                "checks": [{"id": "pmax_ratio_6_0", "check": "P_max(6 deg)/P_max(0 deg)",
+                            "status": "unresolved", "measured": 0.8, "tolerance": "abs 0.35",
+                            "reason": "not resolved at this tier: one realization at 0 or 6 deg. paper: x",
+                            "detail": {"sigma": None}}]}
+    (out / "trends.json").write_text(json.dumps(document), encoding="utf-8")
+    assert run(checks, out, "--results", str(tmp_path / "none")) == 0
+    markdown = (out / "report.md").read_text(encoding="utf-8")
+    assert "This run ran no sweep" not in markdown
+    assert "### This run: quick tier" in markdown
+    assert "**NOT RESOLVED**: one realization at 0 or 6 deg" in markdown
+    assert "| P_max falls with the opening angle (Fig. 3b) |   | - |   | **not measured** |" in markdown
+
+
+def test_a_malformed_stored_record_names_the_file_and_field(folders, tmp_path, capsys):
+    checks, out = folders
+    write_checks(checks, [MIXED[0]])
+    results = tmp_path / "results"
+    results.mkdir()
+    (results / "standard.json").write_text(json.dumps({"version": 1, "tier": "standard"}), encoding="utf-8")
+    assert run(checks, out, "--results", str(results)) == 2
+    err = capsys.readouterr().err
+    assert f"{results / 'standard.json'}: field 'generated' must be a str" in err
+    assert not (out / "report.md").exists()

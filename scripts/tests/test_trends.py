@@ -6,6 +6,7 @@ Run with Debian's interpreter: /usr/bin/python3 -m pytest -q scripts/tests
 from __future__ import annotations
 
 import json
+import math
 import os
 import subprocess
 import sys
@@ -19,7 +20,7 @@ SCRIPTS = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(SCRIPTS))
 
 import report  # noqa: E402  (scripts/report.py, which reads the check lines)
-from analysis import cli, inputs, output, plots, trends  # noqa: E402
+from analysis import cli, headline, inputs, output, plots, trends  # noqa: E402
 
 PYTHON = "/usr/bin/python3"
 ENTRY = SCRIPTS / "trends"
@@ -317,6 +318,38 @@ def test_the_ratio_band_widens_to_two_sigma(tmp_path):
     assert f"abs {2 * sigma:.4g}" in result.tolerance
 
 
+def test_a_ratio_inside_a_band_widened_by_the_scatter_is_not_resolved(tmp_path):
+    # Truth 0.5, but 40 % scatter with 3 realizations: 2 sigma_R is wider than the
+    # standard floor, so the band only grew to hold the scatter.
+    folder = build_sweep(tmp_path / "a", "angle", ANGLES, halving, noise=0.4, seed=3)
+    result = results_by_id(analyse(folder, "angle", "standard"))["pmax_ratio_6_0"][0]
+    sigma = result.detail["sigma"]
+    assert 2 * sigma > 0.25
+    assert result.status == "unresolved"
+    assert result.reason.startswith("not resolved at this tier")
+    needed = result.detail["realizations_needed"]
+    assert needed == math.ceil(3 * (2 * sigma / 0.25) ** 2) and needed > 3
+    line = result.record()
+    assert line["passed"] is True and line["resolved"] is False
+
+
+def test_a_resolved_halving_passes_and_its_line_has_no_resolved_flag(tmp_path):
+    folder = build_sweep(tmp_path / "a", "angle", ANGLES, halving, noise=0.02)
+    result = results_by_id(analyse(folder, "angle", "paper"))["pmax_ratio_6_0"][0]
+    assert result.status == "passed" and "resolved" not in result.record()
+    assert result.detail["realizations_needed"] == 3
+
+
+def test_a_flat_vorticity_under_wide_scatter_is_not_resolved(tmp_path):
+    flat = {w: (lambda t: 0.05) for w in WINDOWS}
+    quiet = build_sweep(tmp_path / "q", "angle", ANGLES, halving, wrms=flat, noise=0.02)
+    assert statuses(analyse(quiet, "angle", "standard"), "wrms_theta_flat") == ["passed"] * 2
+    noisy = build_sweep(tmp_path / "n", "angle", ANGLES, halving, wrms=flat, noise=0.6, seed=4)
+    results = results_by_id(analyse(noisy, "angle", "standard"))["wrms_theta_flat"]
+    assert [r.status for r in results] == ["unresolved"] * 2
+    assert all("would go unseen" in r.reason for r in results)
+
+
 def test_pressure_falling_with_the_ratio_fails(tmp_path):
     folder = build_sweep(tmp_path / "r", "ratio", RATIOS, lambda r: 20.0 - 0.5 * r)
     a = analyse(folder, "ratio")
@@ -399,9 +432,11 @@ def test_two_runs_give_a_slope_without_standard_error_and_skip(tmp_path):
     a = analyse(folder, "angle")
     assert statuses(a, "pmax_theta_slope") == ["skipped"]
     assert "standard error" in results_by_id(a)["pmax_theta_slope"][0].reason
-    # The ratio still works with one realization per angle: the floor is the band.
+    # One realization per angle: inside the band, but with no scatter estimate it is
+    # not resolved (never a PASS).
     result = results_by_id(a)["pmax_ratio_6_0"][0]
-    assert result.status == "passed" and "n/a" in result.tolerance
+    assert result.status == "unresolved" and "n/a" in result.tolerance
+    assert "one realization" in result.reason
 
 
 def test_missing_angles_and_columns_skip(tmp_path):
@@ -457,6 +492,25 @@ def test_check_lines_follow_the_check_record_format(tmp_path):
     checks = report.load_checks(tmp_path / "checks")
     assert len(checks) == sum(r.status != "skipped" for r in a.results)
     assert not checks.loc[checks["check"] == "P_max slope vs theta_c", "passed"].iloc[0]
+
+
+def test_the_stored_headline_carries_each_checks_status_and_fit(tmp_path):
+    angle = build_sweep(tmp_path / "a", "angle", ANGLES, halving, realizations=1)
+    wrms = {w: (lambda x: 0.01 + 0.0004 * x ** 2) for w in WINDOWS}
+    ratio = build_sweep(tmp_path / "r", "ratio", RATIOS, rising_quadratic, wrms=wrms)
+    store = tmp_path / "results" / "quick.json"
+    assert cli.main([str(angle), str(ratio), "--out", str(tmp_path / "out"), "--no-plots",
+                     "--store", str(store), "--engine-commit", "abc1234"]) == 0
+    record = headline.load_record(store)
+    assert record["tier"] == "quick" and record["engine_commit"] == "abc1234"
+    document = json.loads((tmp_path / "out" / "trends.json").read_text())
+    status = {(c["id"], c["check"]): c["status"] for c in document["checks"]}
+    rows = {(r["id"], r["check"]): r for r in record["rows"] if r["status"] != "missing"}
+    assert rows and all(status[key] == row["status"] for key, row in rows.items())
+    # One realization per angle: the halving is not resolved, and the stored row says so.
+    assert rows[("pmax_ratio_6_0", "P_max(6 deg)/P_max(0 deg)")]["status"] == "unresolved"
+    fit = rows[("pmax_ratio_quadratic_r2", "P_max quadratic R^2 vs alpha_c/alpha_p")]["fit"]
+    assert fit["coefficients"][2] == pytest.approx(0.04, rel=0.2)  # rising_quadratic's x^2
 
 
 # --------------------------------------------------------------------------- plots

@@ -1,0 +1,176 @@
+"""The paper's headline trends in a few rows: from a trends.json document, stored as
+a dated record (validation/results/*.json), and rendered at the top of the
+validation report (scripts/report.py). Format: docs/trends.md, "Stored results".
+
+A record holds only what the analysis measured and decided (the checks' statuses come
+from scripts/analysis/trends.py); nothing here re-judges a value.
+"""
+
+from __future__ import annotations
+
+import html
+import json
+import math
+from pathlib import Path
+
+RECORD_VERSION = 1
+
+#: The headline rows: trend check id, the paper's statement, and the fit of the
+#: realization means shown beside it (metric, or None).
+ROWS = (
+    ("pmax_ratio_6_0", "6 deg opening angle halves the peak wall pressure: P_max(6)/P_max(0) ~ 0.5", None),
+    ("pmax_theta_slope", "P_max falls with the opening angle (Fig. 3b)", "P_max"),
+    ("pmax_ratio_slope", "P_max rises with alpha_c/alpha_p (Fig. 3d)", "P_max"),
+    ("pmax_ratio_quadratic_r2", "P_max(alpha_c/alpha_p) is fitted well by a quadratic (Fig. 3d)", "P_max"),
+    ("wrms_ratio_slope", "RMS vorticity rises with alpha_c/alpha_p, roughly quadratically (Fig. 7b)", "W_rms"),
+    ("wrms_theta_flat", "RMS vorticity is independent of the opening angle (Fig. 7a)", None),
+)
+
+STATUS_TEXT = {"passed": "PASS", "failed": "FAIL", "unresolved": "NOT RESOLVED",
+               "skipped": "SKIP", "missing": "not measured"}
+
+
+class RecordError(Exception):
+    """A stored record that cannot be read (names the file and the field)."""
+
+
+def _metric_of(check: str, metric: str) -> str:
+    """The summary column a check reads: W_rms[3-6] -> W_rms_3_6."""
+    if "[" in check and "]" in check:
+        window = check.split("[", 1)[1].split("]", 1)[0]
+        return f"{metric}_{window.replace('-', '_')}"
+    return metric
+
+
+def _quadratic(analysis: dict, metric: str) -> dict | None:
+    """Coefficients (ascending) and R^2 of the quadratic through the realization means."""
+    for name, info in analysis.get("metrics", {}).items():
+        if name == metric:
+            fit = (info.get("fits_over_means_weighted_by_n") or {}).get("quadratic")
+            if fit:
+                return {"metric": name, "coefficients": fit["coefficients"], "r2": fit["r2"],
+                        "x_range": fit.get("x_range")}
+    return None
+
+
+def from_trends(document: dict, *, engine_commit: str, command: str, scale: str) -> dict:
+    """The headline record of one trends.json document."""
+    rows = []
+    by_kind = {a["kind"]: a for a in document.get("analyses", [])}
+    for check_id, statement, metric in ROWS:
+        checks = [c for c in document.get("checks", []) if c.get("id") == check_id]
+        kind = "angle" if check_id in ("pmax_ratio_6_0", "pmax_theta_slope", "wrms_theta_flat") else "ratio"
+        analysis = by_kind.get(kind)
+        fit = _quadratic(analysis, metric) if metric and analysis else None
+        if not checks:
+            rows.append({"id": check_id, "statement": statement, "status": "missing",
+                         "measured": None, "check": "", "detail": "", "fit": fit})
+            continue
+        for c in checks:
+            if metric and analysis:
+                fit = _quadratic(analysis, _metric_of(c["check"], metric))
+            detail = c.get("detail") or {}
+            text = c.get("tolerance", "")
+            if check_id == "pmax_ratio_6_0" and math.isfinite(detail.get("sigma", math.nan) or math.nan):
+                text = (f"{detail['ratio']:.3g} +- {detail['sigma']:.2g} (sigma_R), "
+                        f"{detail['numerator']['n']} and {detail['denominator']['n']} realizations")
+            rows.append({"id": check_id, "statement": statement, "check": c["check"],
+                         "status": c["status"], "measured": c.get("measured"), "detail": text,
+                         "reason": c.get("reason", ""), "fit": fit})
+    return {"version": RECORD_VERSION, "tier": document["tier"], "generated": document["generated"],
+            "engine_commit": engine_commit, "command": command, "scale": scale,
+            "counts": document.get("counts", {}), "rows": rows}
+
+
+_REQUIRED = {"version": int, "tier": str, "generated": str, "engine_commit": str,
+             "command": str, "scale": str, "rows": list}
+
+
+def load_record(path: Path) -> dict:
+    try:
+        record = json.loads(Path(path).read_text(encoding="utf-8"))
+    except (OSError, json.JSONDecodeError) as problem:
+        raise RecordError(f"{path}: not a readable JSON record ({problem})") from None
+    if not isinstance(record, dict):
+        raise RecordError(f"{path}: expected a JSON object")
+    for key, kind in _REQUIRED.items():
+        if not isinstance(record.get(key), kind):
+            raise RecordError(f"{path}: field '{key}' must be a {kind.__name__}")
+    if record["version"] != RECORD_VERSION:
+        raise RecordError(f"{path}: field 'version' is {record['version']}, expected {RECORD_VERSION}")
+    for i, row in enumerate(record["rows"]):
+        for key in ("id", "statement", "status"):
+            if not isinstance(row.get(key), str):
+                raise RecordError(f"{path}: field 'rows[{i}].{key}' must be a string")
+        if row["status"] not in STATUS_TEXT:
+            raise RecordError(f"{path}: field 'rows[{i}].status' is '{row['status']}', expected one of "
+                              f"{', '.join(STATUS_TEXT)}")
+    return record
+
+
+def load_records(folder: Path) -> list[dict]:
+    """Every *.json record of the folder, tiers in the order quick, standard, paper."""
+    order = {"quick": 0, "standard": 1, "paper": 2}
+    records = [load_record(p) for p in sorted(Path(folder).glob("*.json"))] if Path(folder).is_dir() else []
+    return sorted(records, key=lambda r: (order.get(r["tier"], 9), r["generated"]))
+
+
+def _measured(row: dict) -> str:
+    if row.get("detail") and row["id"] == "pmax_ratio_6_0":
+        return row["detail"]
+    value = row.get("measured")
+    return "-" if value is None else f"{value:.4g}"
+
+
+def _fit(row: dict) -> str:
+    fit = row.get("fit")
+    if not fit:
+        return ""
+    c0, c1, c2 = fit["coefficients"]
+    return f"{fit['metric']} = {c0:.3g} + {c1:.3g} x + {c2:.3g} x^2 (R^2 {fit['r2']:.3f})"
+
+
+def table_rows(record: dict) -> list[dict]:
+    return [{"statement": r["statement"], "check": r.get("check", ""), "measured": _measured(r),
+             "fit": _fit(r), "result": STATUS_TEXT[r["status"]],
+             "why": (r.get("reason", "").split(". paper:")[0].removeprefix("not resolved at this tier: ")
+                     if r["status"] == "unresolved" else "")}
+            for r in record["rows"]]
+
+
+def _title(record: dict, source: str) -> str:
+    return (f"{source}: {record['tier']} tier, {record['generated']}, engine commit "
+            f"{record['engine_commit']}")
+
+
+def render_markdown(records: list[tuple[str, dict]]) -> list[str]:
+    out = []
+    for source, record in records:
+        out += ["", f"### {_title(record, source)}", "", f"Scale: {record['scale']}. Command: `{record['command']}`",
+                "", "| paper's statement | check | measured | quadratic fit of the means | result |",
+                "|---|---|---|---|---|"]
+        for r in table_rows(record):
+            result = r["result"] if r["result"] == "PASS" else f"**{r['result']}**"
+            if r["why"]:
+                result += f": {r['why']}"
+            cells = [r["statement"], r["check"], r["measured"], r["fit"], result]
+            out.append("| " + " | ".join(" ".join(c.split()).replace("|", "\\|") or " " for c in cells) + " |")
+    return out
+
+
+def render_html(records: list[tuple[str, dict]]) -> list[str]:
+    esc = html.escape
+    out = []
+    for source, record in records:
+        out += [f"<h3>{esc(_title(record, source))}</h3>",
+                f"<p>Scale: {esc(record['scale'])}. Command: <code>{esc(record['command'])}</code></p>",
+                "<table><thead><tr><th>paper's statement</th><th>check</th><th>measured</th>"
+                "<th>quadratic fit of the means</th><th>result</th></tr></thead><tbody>"]
+        for r in table_rows(record):
+            css = {"PASS": "pass", "FAIL": "fail", "NOT RESOLVED": "unresolved"}.get(r["result"], "")
+            result = r["result"] + (f": {r['why']}" if r["why"] else "")
+            out.append(f'<tr class="{css}"><td>{esc(r["statement"])}</td><td>{esc(r["check"])}</td>'
+                       f'<td class="num">{esc(r["measured"])}</td><td class="num">{esc(r["fit"])}</td>'
+                       f'<td class="result">{esc(result)}</td></tr>')
+        out.append("</tbody></table>")
+    return out
