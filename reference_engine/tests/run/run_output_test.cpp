@@ -76,5 +76,44 @@ TEST(RunOutput, WritesHeaderRowsAndRunJson) {
   fs::remove_all(d);
 }
 
+TEST(RunOutput, ClearsAnEarlierRunsOutputsAndNothingElse) {
+  const fs::path d = fs::temp_directory_path() / "ratchet_run_output_stale_test";
+  fs::remove_all(d);
+  fs::create_directories(d / "vtk");
+  const std::vector<std::string> stale = {"run.json", "cycles.csv", "wall_profile.csv", "displacement_0_10.csv",
+                                          "timeseries.csv.partial", "vtk/particles_cycle1_end_heating.vtk",
+                                          "vtk/contacts_cycle1_end_cooling.vtk"};
+  const std::vector<std::string> kept = {"notes.txt", "packing.state", "cycles.csv.bak", "vtk/mine.vtk",
+                                         "displacement_.csv"};
+  for (const auto& name : stale) std::ofstream(d / name) << "old\n";
+  for (const auto& name : kept) std::ofstream(d / name) << "mine\n";
+  World world(one_sphere());
+  {
+    RunOutput out(d.string(), {});
+    for (const auto& name : stale) {
+      if (name == "timeseries.csv.partial") continue;  // this run's own now
+      EXPECT_FALSE(fs::exists(d / name)) << name;
+    }
+    for (const auto& name : kept) EXPECT_TRUE(fs::exists(d / name)) << name;
+    out.write_timeseries_row(world, {});
+    out.finish(world, {{"status", "completed"}});
+  }
+  // The run without cycles leaves no cycles.csv of the earlier one behind.
+  EXPECT_FALSE(fs::exists(d / "cycles.csv"));
+  EXPECT_EQ(lines_of(d / "timeseries.csv").size(), 2u);
+  fs::remove_all(d);
+}
+
+TEST(RunOutput, RemovesRunJsonFirst) {
+  const fs::path d = fs::temp_directory_path() / "ratchet_run_output_order_test";
+  fs::remove_all(d);
+  fs::create_directories(d);
+  for (const char* name : {"bodies.csv", "run.json", "timeseries.csv"}) std::ofstream(d / name) << "old\n";
+  const auto removed = remove_previous_outputs(d.string());
+  ASSERT_EQ(removed.size(), 3u);
+  EXPECT_EQ(fs::path(removed.front()).filename(), "run.json");  // a crash midway never looks complete
+  fs::remove_all(d);
+}
+
 }  // namespace
 }  // namespace ratchet

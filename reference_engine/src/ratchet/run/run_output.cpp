@@ -1,5 +1,6 @@
 #include "ratchet/run/run_output.hpp"
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 
@@ -15,9 +16,46 @@ std::string format_double(double x) {
   return buf;
 }
 
+namespace {
+
+// The files a run writes (docs/output-format.md), final and .partial: an earlier run's
+// would sit beside this run's .partial files and make the folder look complete.
+bool is_run_output(const std::string& name) {
+  auto ends_with = [&](const std::string& tail) {
+    return name.size() >= tail.size() && name.compare(name.size() - tail.size(), tail.size(), tail) == 0;
+  };
+  const std::string base = ends_with(".partial") ? name.substr(0, name.size() - 8) : name;
+  if (base == "timeseries.csv" || base == "bodies.csv" || base == "cycles.csv" || base == "wall_profile.csv")
+    return true;
+  return base.rfind("displacement_", 0) == 0 && base.size() > 17 && base.compare(base.size() - 4, 4, ".csv") == 0;
+}
+
+bool is_vtk_output(const std::string& name) {
+  return (name.rfind("particles_", 0) == 0 || name.rfind("contacts_", 0) == 0) &&
+         (name.find(".vtk") != std::string::npos);
+}
+
+}  // namespace
+
+std::vector<std::string> remove_previous_outputs(const std::string& dir) {
+  namespace fs = std::filesystem;
+  std::vector<std::string> removed;
+  if (fs::remove(dir + "/run.json")) removed.push_back(dir + "/run.json");  // first: no longer complete
+  std::vector<fs::path> doomed;
+  for (const auto& e : fs::directory_iterator(dir))
+    if (e.is_regular_file() && is_run_output(e.path().filename().string())) doomed.push_back(e.path());
+  if (fs::is_directory(dir + "/vtk"))
+    for (const auto& e : fs::directory_iterator(dir + "/vtk"))
+      if (e.is_regular_file() && is_vtk_output(e.path().filename().string())) doomed.push_back(e.path());
+  std::sort(doomed.begin(), doomed.end());
+  for (const fs::path& p : doomed)
+    if (fs::remove(p)) removed.push_back(p.string());
+  return removed;
+}
+
 RunOutput::RunOutput(const std::string& dir, const std::vector<std::string>& extra_columns) : dir_(dir) {
   std::filesystem::create_directories(dir_);
-  std::filesystem::remove(dir_ + "/run.json");  // an old run.json would make this look complete
+  remove_previous_outputs(dir_);
   timeseries_ = std::make_unique<AtomicFile>(dir_ + "/timeseries.csv");
   bodies_ = std::make_unique<AtomicFile>(dir_ + "/bodies.csv");
   auto& ts = timeseries_->stream();

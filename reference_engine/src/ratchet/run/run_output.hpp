@@ -17,7 +17,8 @@ namespace ratchet {
 
 class RunOutput {
  public:
-  // Creates `dir`, removes an old run.json and writes the CSV headers; extra_columns
+  // Creates `dir`, removes an earlier run's outputs (remove_previous_outputs) and writes
+  // the CSV headers; extra_columns
   // follow the fixed timeseries columns. Rows are written by the caller, step 0 included.
   RunOutput(const std::string& dir, const std::vector<std::string>& extra_columns);
   // One timeseries row; `extra` holds one value per extra column, in their order.
@@ -30,6 +31,12 @@ class RunOutput {
   std::string dir_;
   std::unique_ptr<AtomicFile> timeseries_, bodies_;
 };
+
+// Removes from `dir` what an earlier run wrote there: run.json first (the folder no longer
+// looks complete), then timeseries.csv, bodies.csv, cycles.csv, wall_profile.csv,
+// displacement_<a>_<b>.csv (and their .partial files) and vtk/particles_*.vtk,
+// vtk/contacts_*.vtk. Other files are left alone. Returns the paths removed.
+std::vector<std::string> remove_previous_outputs(const std::string& dir);
 
 // Run metadata: scene as run, hash, engine version, effects, plan, timings.
 nlohmann::json run_metadata(const World& world);
