@@ -4,7 +4,8 @@ The contract (docs/trends.md, "Input files"):
 
 - SWEEP/summary.csv: one row per run. Required columns: ``run``, ``P_max``.
   Used when present: ``status`` ("completed" or "failed"; absent: every row counts
-  as completed), ``seed``, ``P_max_std``, ``V_over_V0_end``, ``thermal.alpha_p``,
+  as completed), ``unconverged_fraction`` (runs above CAPPED_REFUSE are left out,
+  others with capped steps flagged), ``seed``, ``P_max_std``, ``V_over_V0_end``, ``thermal.alpha_p``,
   the swept parameter columns ``container.opening_angle_deg`` and
   ``thermal.alpha_c``, and ``W_rms_<a>_<b>`` (vorticity window of cycles a..b).
 - SWEEP/runs/<run>/timeseries.csv: ``t`` with ``pressure``, ``T``, ``V_over_V0``.
@@ -31,7 +32,12 @@ ALPHA_P = "thermal.alpha_p"
 RATIO = "alpha_c/alpha_p"
 REQUIRED = ("run", "P_max")
 METRICS = {"run", "seed", "P_max", "P_max_std", "V_over_V0_end", "cycles", "wall_seconds",
-           "status", "packing", RATIO}
+           "status", "packing", RATIO, "unconverged_steps", "unconverged_fraction"}
+#: A run with more of its steps stopped at the solver's iteration cap than this is left
+#: out: its observables are read from unconverged impulses, not from the contact law.
+#: Below it, the run is kept and flagged (a few capped steps at jams barely move a peak;
+#: docs/performance.md measured the rigid standard bed at 8 of 12000 steps).
+CAPPED_REFUSE = 0.05
 #: Text columns of summary.csv (``packing``: the key of the settled packing a run started from).
 TEXT_COLUMNS = ("status", "packing")
 W_RMS = re.compile(r"^W_rms_(\d+)_(\d+)$")
@@ -72,6 +78,7 @@ class Sweep:
     parameters: list[str]          # swept parameter columns (dotted scene paths)
     windows: list[Window]
     notes: list[str] = field(default_factory=list)
+    capped: dict = field(default_factory=dict)   # kept run -> fraction of steps at the cap (> 0)
 
     @property
     def failed_runs(self) -> list[int]:
@@ -130,6 +137,21 @@ def load_sweep(folder: str | Path) -> Sweep:
     if failed:
         runs = ", ".join(str(r) for r in summary.loc[~summary.index.isin(completed.index), "run"])
         notes.append(f"{failed} of {len(summary)} runs did not complete and are left out (run {runs})")
+    capped = {}
+    if "unconverged_fraction" in completed.columns:
+        fraction = completed["unconverged_fraction"].fillna(0.0)
+        refused = completed[fraction > CAPPED_REFUSE]
+        if len(refused):
+            listed = ", ".join(f"{int(r.run)} ({r.unconverged_fraction:.1%})" for r in refused.itertuples())
+            notes.append(f"{len(refused)} run(s) had more than {CAPPED_REFUSE:.0%} of their steps at the "
+                         f"solver's iteration cap and are left out (run {listed})")
+            completed = completed[fraction <= CAPPED_REFUSE].copy()
+            fraction = fraction[fraction <= CAPPED_REFUSE]
+        capped = {int(r): float(f) for r, f in zip(completed["run"], fraction) if f > 0}
+        if capped:
+            notes.append(f"{len(capped)} run(s) kept with steps at the iteration cap (at most "
+                         f"{max(capped.values()):.2%} of their steps; run "
+                         f"{', '.join(str(r) for r in sorted(capped))})")
 
     kinds = []
     if ANGLE in summary.columns:
@@ -151,7 +173,7 @@ def load_sweep(folder: str | Path) -> Sweep:
     windows.sort(key=lambda w: (w.first, w.last))
     return Sweep(folder=folder, name=folder.resolve().name or "sweep", summary=summary,
                  completed=completed, kinds=kinds, parameters=parameters, windows=windows,
-                 notes=notes)
+                 notes=notes, capped=capped)
 
 
 # --------------------------------------------------------------------------- per run

@@ -556,6 +556,15 @@ def analyse(sweep: Sweep, kind: str, tier: str, case: str | None = None) -> Anal
                                       w_def.check.format(window=window.label.replace("cycles ", "")),
                                       direction))
     a.results.extend(_volume_checks(a))
+    capped = sorted(r for r in data["run"] if int(r) in sweep.capped)
+    if capped:
+        worst = max(sweep.capped[int(r)] for r in capped)
+        flag = (f" [built on {len(capped)} of {len(data)} runs with steps at the solver's iteration "
+                f"cap, at most {worst:.2%} of a run's steps]")
+        for r in a.results:
+            if r.status != "skipped":
+                r.reason += flag
+                r.detail["capped_runs"] = [int(x) for x in capped]
     return a
 
 

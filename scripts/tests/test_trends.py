@@ -87,10 +87,11 @@ def write_run(folder: Path, p_max: float, cycles: int, *, volume=True, timeserie
 
 def build_sweep(folder: Path, kind: str, values, pmax, *, wrms=None, realizations=3,
                 noise=0.02, seed=0, v_end=0.97, runs=False, cycles=6, windows=WINDOWS,
-                run_options=None, drop=(), failed=(), grid_ratios=None) -> Path:
+                run_options=None, drop=(), failed=(), grid_ratios=None, capped=None) -> Path:
     """A sweep folder with summary.csv (and runs/<run>/ when runs=True).
 
-    pmax(x) and wrms[(a, b)](x) give the truth; noise is a relative Gaussian scatter.
+    pmax(x) and wrms[(a, b)](x) give the truth; noise is a relative Gaussian scatter;
+    capped maps run -> unconverged_fraction (the column is written only when given).
     """
     rng = np.random.default_rng(seed)
     folder.mkdir(parents=True, exist_ok=True)
@@ -117,6 +118,8 @@ def build_sweep(folder: Path, kind: str, values, pmax, *, wrms=None, realization
                 row["cycles"] = cycles
                 row["wall_seconds"] = 1.5
                 row["status"] = "failed" if run in failed else "completed"
+                if capped is not None:
+                    row["unconverged_fraction"] = capped.get(run, 0.0)
                 if run in failed:
                     row["P_max"] = -1000.0
                 rows.append(row)
@@ -229,6 +232,27 @@ def test_failed_runs_are_left_out(tmp_path):
     assert 0 not in set(a.data["run"]) and 4 not in set(a.data["run"])
     assert any("did not complete" in n for n in a.sweep.notes)
     assert statuses(a, "pmax_theta_slope") == ["passed"]
+
+
+def test_runs_mostly_at_the_iteration_cap_are_left_out_and_others_flagged(tmp_path):
+    folder = build_sweep(tmp_path / "a", "angle", ANGLES, halving, capped={0: 1.0, 4: 0.002})
+    sweep = inputs.load_sweep(folder)
+    assert 0 not in set(sweep.completed["run"]) and len(sweep.completed) == len(ANGLES) * 3 - 1
+    assert sweep.capped == {4: 0.002}
+    assert any("left out (run 0 (100.0%))" in n for n in sweep.notes)
+    assert "unconverged_fraction" not in sweep.parameters
+    a = trends.analyse(sweep, "angle", "quick")
+    assert len(a.data) == len(ANGLES) * 3 - 1
+    checked = [r for r in a.results if r.status != "skipped"]
+    assert checked and all("[built on 1 of 14 runs with steps at the solver's iteration cap, at most "
+                           "0.20% of a run's steps]" in r.reason for r in checked)
+    assert all(r.detail["capped_runs"] == [4] for r in checked)
+
+
+def test_a_sweep_without_capped_steps_carries_no_flag(tmp_path):
+    folder = build_sweep(tmp_path / "a", "angle", ANGLES, halving, capped={})
+    a = trends.analyse(inputs.load_sweep(folder), "angle", "quick")
+    assert not any("iteration cap" in r.reason for r in a.results)
 
 
 def test_a_grid_is_cut_where_the_paper_fixed_the_other_parameter(tmp_path):

@@ -64,6 +64,7 @@ TEST(RunWorld, RowsAtEveryNthStepAndTheLast) {
   EXPECT_EQ(meta.at("steps"), 10);
   EXPECT_EQ(meta.at("summary"), r.summary);
   EXPECT_EQ(meta.at("warnings"), json::array());  // every step converged
+  EXPECT_EQ(meta.at("summary").at("unconverged_fraction"), 0.0);
   fs::remove_all(d);
 }
 
@@ -92,6 +93,9 @@ TEST(RunWorld, StepsStoppedAtTheCapAreAWarningInRunJson) {
   const json meta = json::parse(in);
   EXPECT_EQ(meta.at("warnings"), r.warnings);
   EXPECT_EQ(meta.at("counters").at("unconverged_steps"), 5);
+  // The summary (and so a sweep's summary.csv) carries it beside the observables.
+  EXPECT_EQ(meta.at("summary").at("unconverged_steps"), 5);
+  EXPECT_EQ(meta.at("summary").at("unconverged_fraction"), 1.0);
   fs::remove_all(d);
 }
 

@@ -12,6 +12,7 @@ namespace ratchet {
 RunObservers::RunObservers(const World& world, std::string out_dir)
     : scene_(world.scene()),
       out_dir_(std::move(out_dir)),
+      first_step_(world.state().step),
       clock_(world.scene(), world.state().t, world.settling()),
       volume_(world),
       peaks_(world.scene()),
@@ -60,6 +61,11 @@ void RunObservers::write_cycles(const std::string& path) const {
 
 nlohmann::json RunObservers::finish(const World& world) {
   nlohmann::json summary;
+  // Every observable below may rest on steps the solver left at its cap: say how many.
+  const std::int64_t steps = world.state().step - first_step_;
+  summary["unconverged_steps"] = world.stats().unconverged_steps;
+  summary["unconverged_fraction"] =
+      steps > 0 ? static_cast<double>(world.stats().unconverged_steps) / static_cast<double>(steps) : 0.0;
   volume_.summarize(world, summary);
   if (!clock_.thermal()) return summary;
   peaks_.summarize(clock_.cycles_reached(), summary);

@@ -5,6 +5,7 @@
 // the pure functions of observe/. Nothing is computed that outputs does not ask for.
 #pragma once
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -42,6 +43,7 @@ class RunObservers {
 
   const SceneDef& scene_;
   std::string out_dir_;
+  std::int64_t first_step_;    // a run from a packing starts at the packing's step
   std::vector<std::string> columns_;
   CycleClock clock_;
   VolumeRatio volume_;
