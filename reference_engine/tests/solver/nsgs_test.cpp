@@ -146,5 +146,47 @@ TEST(Nsgs, NoRowsIsConvergedWithNoSweep) {
   EXPECT_EQ(r.sweeps, 0);
 }
 
+// Energy-safe relaxation on a compliant row (docs/method.md s. 5): the capped speed is a
+// second law, and the row takes the solution that pushes less. One unit mass on the
+// floor (W = 1), compliance c = 0.1, an overlap that asks for the speed 5.
+struct PushCase {
+  double lambda, v;
+};
+PushCase push_off_the_floor(double g_h, double cap, bool friction) {
+  test::Column c(1, g_h, friction ? 0.5 : 0.0);
+  make_compliant(c, 0.1);
+  c.rows[0].bias = -5.0;
+  c.rows[0].bias_capped = cap > 0.0 ? -cap : 0.0;
+  SolverBodies b = c.bodies();
+  const NsgsResult r = solve_nsgs(c.rows, b, settings(100, 1e-14, friction), c.scratch);
+  EXPECT_TRUE(r.converged);
+  return {c.rows[0].lambda[0], c.v[0].z()};
+}
+
+TEST(Nsgs, AnUnloadedCompliantOverlapLeavesAtTheCappedSpeed) {
+  for (bool friction : {false, true}) {
+    // Spring law alone: lambda = (5 + gh) / 1.1, u = 5 - 0.1 lambda = 4.58.
+    const PushCase free = push_off_the_floor(0.04, 0.0, friction);
+    EXPECT_NEAR(free.v, 5.0 - 0.1 * 5.04 / 1.1, 1e-12);
+    // Capped at 0.5: the rigid law u = 0.5 pushes less (lambda 0.54 < 4.58).
+    const PushCase capped = push_off_the_floor(0.04, 0.5, friction);
+    EXPECT_NEAR(capped.v, 0.5, 1e-12) << friction;
+    EXPECT_NEAR(capped.lambda, 0.54, 1e-12) << friction;
+  }
+}
+
+TEST(Nsgs, ALoadedCompliantOverlapKeepsTheSpringLawBitForBit) {
+  for (bool friction : {false, true}) {
+    // Load gh = 100: the spring's lambda = 105 / 1.1 = 95.5 (u = 5 - 9.55 < 0: still
+    // compressing) is below the capped law's 100.5, so the cap does not bind and the
+    // bits are the spring's.
+    const PushCase spring = push_off_the_floor(100.0, 0.0, friction);
+    const PushCase capped = push_off_the_floor(100.0, 0.5, friction);
+    EXPECT_LT(spring.v, 0.5);
+    EXPECT_EQ(spring.lambda, capped.lambda) << friction;
+    EXPECT_EQ(spring.v, capped.v) << friction;
+  }
+}
+
 }  // namespace
 }  // namespace ratchet

@@ -10,6 +10,17 @@ namespace ratchet {
 
 namespace {
 
+// A compliant row whose overlap asks for a separation speed above the cap: the rigid
+// law with the capped speed (u_n >= cap) is the second law, and the row takes whichever
+// solution pushes less. Under load the spring's pushes less and is kept bit for bit;
+// an unloaded overlap leaves at the cap (docs/method.md s. 5, "Energy-safe relaxation").
+Vec3 weaker_push(const SolverRow& c, const Vec3& w, const Vec3& spring) {
+  Vec3 w_cap = w;
+  w_cap[0] += c.bias_capped - c.bias;
+  const Vec3 capped = solve_local_coulomb(c.W, c.W.inverse(), w_cap, c.mu).lambda;
+  return capped[0] < spring[0] ? capped : spring;
+}
+
 // One Gauss-Seidel sweep in row order: each contact solved exactly with the others
 // frozen, its change applied at once. d2 and l2 accumulate |d lambda|^2 and |lambda|^2.
 // Record: also write each row's impulse before and after into x and g (3 per row), for
@@ -30,13 +41,16 @@ template <bool Record>
         Mat3 Wc = c.W;
         Wc.diagonal().array() += c.compliance;
         lambda_new = solve_local_coulomb(Wc, c.W_inv, w, c.mu).lambda;
+        if (c.bias_capped != 0.0) lambda_new = weaker_push(c, w, lambda_new);
       } else {
         lambda_new = solve_local_coulomb(c.W, c.W_inv, w, c.mu).lambda;
       }
       ++tangential;
     } else {
       const double w_n = u[0] - c.W(0, 0) * c.lambda[0] + c.bias;
-      lambda_new = Vec3(solve_local_normal(c.W(0, 0) + c.compliance, w_n), 0.0, 0.0);
+      double l_n = solve_local_normal(c.W(0, 0) + c.compliance, w_n);
+      if (c.bias_capped != 0.0) l_n = std::min(l_n, solve_local_normal(c.W(0, 0), w_n - c.bias + c.bias_capped));
+      lambda_new = Vec3(l_n, 0.0, 0.0);
     }
     const Vec3 d = lambda_new - c.lambda;
     if (d.squaredNorm() > 0.0) apply_local_impulse(c, d, B, rotation);

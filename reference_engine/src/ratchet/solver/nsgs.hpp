@@ -27,6 +27,7 @@ struct SolverRow {
   double compliance = 0.0;         // c = solver.compliance * W_nn: the local law holds for u + c lambda (docs/method.md s. 5)
   double mu = 0.0;
   double bias = 0.0;               // b: u_n + b >= 0 is the velocity form of g(t+h) >= 0
+  double bias_capped = 0.0;        // compliant rows: -(speed cap) when it binds, else 0 (docs/method.md s. 5)
   Vec3 u0 = Vec3::Zero();          // F^T u_expansion: the local velocity no body velocity explains
   Vec3 lambda = Vec3::Zero();      // local impulse (n, t1, t2) on A
 };

@@ -34,6 +34,11 @@ void World::build_rows() {
   StepScratch& s = scratch_;
   const double h = scene_.dt;
   const double p_gap = scene_.solver.p_gap;
+  // Energy-safe relaxation (docs/method.md s. 5): the separation speed an overlap asks
+  // for is at most sqrt(2 g* max(delta, margin)), g* the gravity's magnitude (1, the
+  // scene's unit acceleration, without gravity).
+  const double g_star = scene_.effects.gravity && scene_.gravity.norm() > 0.0 ? scene_.gravity.norm() : 1.0;
+  const double margin = scene_.solver.contact_margin;
   const Vec3& c0 = scene_.container.scale_center;
   // The wall's expansion rate in the contact velocity; the planted-regression seam can
   // drop it (world/test_hooks.hpp).
@@ -98,10 +103,22 @@ void World::build_rows() {
     // Gap relaxation (docs/method.md s. 5): an overlap closes at p_gap g / h per step.
     const double g = c.geometry.gap;
     min_gap = std::min(min_gap, g);
-    const double g_eff = g >= 0.0 ? g : p_gap * g;
     // Velocity-level Signorini: u_n(t+h) >= -g_eff / h. Theta enters the position update
     // only; a gap-based bias with theta < 1 would turn an inelastic landing into a rebound.
-    r.bias = g_eff / h;
+    r.bias_capped = 0.0;
+    if (g >= 0.0) {
+      r.bias = g / h;
+    } else {
+      // The speed stays in the bodies after the overlap is gone: capped, the energy one
+      // correction adds is at most m g* max(delta, margin) for any h. A compliant row
+      // keeps its bias, the spring's rest point, and gets the cap as a second law that
+      // the solve applies where it pushes less (solver/nsgs.cpp).
+      const double speed = p_gap * -g / h;
+      const double cap = std::sqrt(2.0 * g_star * std::max(-g, margin));
+      const bool capped = speed > cap;
+      r.bias = -(capped && r.compliance == 0.0 ? cap : speed);
+      r.bias_capped = capped && r.compliance > 0.0 ? -cap : 0.0;
+    }
     r.lambda.setZero();
     c.lambda.setZero();
   }
