@@ -1,14 +1,20 @@
-// ratchet: the command-line program of the NSCD reference engine.
+// ratchet: the command-line program of the NSCD reference engine (docs/cli.md).
 //   ratchet run SCENE.json --out DIR [--packing FILE] [--set key.path=value ...] [--quiet]
-//   ratchet run --explain SCENE.json [--set ...]
+//   ratchet run --explain SCENE.json [--packing FILE] [--set ...]
 //   ratchet pack SCENE.json --out FILE [--set key.path=value ...] [--quiet]
 //   ratchet sweep SWEEP.json --out DIR [--jobs N]
-//   ratchet --version | help
+//   ratchet --version | -V | version,  ratchet help [COMMAND] | --help | -h,  ratchet COMMAND --help
 #include <unistd.h>
 
+#include <CLI/CLI.hpp>
+#include <cerrno>
+#include <charconv>
 #include <chrono>
 #include <cstdio>
+#include <cstring>
 #include <iostream>
+#include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -34,12 +40,28 @@
 
 namespace {
 
+namespace fs = std::filesystem;
+
+const char* kVersion = "ratchet " RATCHET_VERSION " (" RATCHET_BUILD_TYPE ")";
+
+// The synopsis of each command: its part of the usage, the first lines of its --help,
+// and what follows a usage error of that command.
+const std::map<std::string, std::string> kSynopsis = {
+    {"run",
+     "  ratchet run SCENE.json --out DIR [--packing FILE] [--set key.path=value ...] [--quiet]\n"
+     "  ratchet run --explain SCENE.json [--packing FILE] [--set key.path=value ...]\n"},
+    {"pack", "  ratchet pack SCENE.json --out FILE [--set key.path=value ...] [--quiet]\n"},
+    {"sweep", "  ratchet sweep SWEEP.json --out DIR [--jobs N]\n"},
+    {"help", "  ratchet help [COMMAND]\n"},
+    {"version", "  ratchet version\n"},
+};
+
 const char* kUsage =
     "usage:\n"
     "  ratchet run SCENE.json --out DIR [--packing FILE] [--set key.path=value ...] [--quiet]\n"
     "      run a scene; writes DIR/timeseries.csv, DIR/bodies.csv, DIR/run.json;\n"
     "      with --packing, start from that settled packing (made by ratchet pack)\n"
-    "  ratchet run --explain SCENE.json [--set key.path=value ...]\n"
+    "  ratchet run --explain SCENE.json [--packing FILE] [--set key.path=value ...]\n"
     "      print the phases the scene will run and why, then exit\n"
     "  ratchet pack SCENE.json --out FILE [--set key.path=value ...] [--quiet]\n"
     "      pour and settle the bed (until settle.ke_ratio, or up to thermal.start_time without a\n"
@@ -48,12 +70,63 @@ const char* kUsage =
     "      run every point of a sweep (grid x realizations), N runs at a time (default: all cores);\n"
     "      under mpirun -n K the runs are spread over K ranks; writes DIR/packings/, DIR/runs/<id>/,\n"
     "      DIR/summary.csv\n"
-    "  ratchet --version\n"
+    "  ratchet --version | -V | version\n"
+    "      print the version and build type\n"
+    "  ratchet help [COMMAND] | --help | -h\n"
+    "      print this usage, or the options of COMMAND (as ratchet COMMAND --help)\n"
     "See docs/cli.md and docs/scene-format.md.\n";
 
-int usage_error(const std::string& msg) {
-  std::cerr << "ratchet: " << msg << "\n" << kUsage;
+// CLI11's help, with the command's synopsis as its usage line.
+class Formatter : public CLI::Formatter {
+ public:
+  std::string make_usage(const CLI::App* app, std::string name) const override {
+    const auto it = kSynopsis.find(app->get_name());
+    return it == kSynopsis.end() ? CLI::Formatter::make_usage(app, name) : "usage:\n" + it->second;
+  }
+};
+
+// Usage errors: the message, then the usage of the command (or all of it), on stderr.
+int usage_error(const std::string& msg, const std::string& command = "") {
+  std::cerr << "ratchet: " << msg << "\n";
+  const auto it = kSynopsis.find(command);
+  if (it == kSynopsis.end()) std::cerr << kUsage;
+  else std::cerr << "usage:\n" << it->second << "Run 'ratchet " << command << " --help' for its options.\n";
   return 2;
+}
+
+// Input errors found before any work: one line, no usage.
+int input_error(const std::string& msg) {
+  std::cerr << "ratchet: error: " << msg << "\n";
+  return 2;
+}
+
+// A whole number >= 1 written in decimal digits only; "2x", "0", "-1", "1.5", "" and
+// out-of-range values give nullopt rather than being read in part.
+std::optional<int> positive_int(const std::string& text) {
+  int n = 0;
+  const char* end = text.data() + text.size();
+  const auto [ptr, ec] = std::from_chars(text.data(), end, n);
+  if (text.empty() || ec != std::errc() || ptr != end || n < 1) return std::nullopt;
+  return n;
+}
+
+// Why `dir` can neither be used as a folder nor created as one, or "" when it can.
+// Checked before any work, so that a bad --out does not fail after a long run.
+std::string folder_problem(const fs::path& dir) {
+  std::error_code ec;
+  const auto kind = [](const fs::path& p) {
+    std::error_code e;
+    return fs::is_regular_file(p, e) ? "a file" : "not a folder";
+  };
+  if (fs::exists(dir, ec)) return fs::is_directory(dir, ec) ? "" : dir.string() + " is " + kind(dir);
+  // The nearest part of the path that exists must be a folder we may write in.
+  fs::path up = dir.parent_path();
+  while (!up.empty() && !fs::exists(up, ec)) up = up.parent_path();
+  if (up.empty()) up = ".";
+  if (!fs::is_directory(up, ec)) return up.string() + " is " + kind(up);
+  if (access(up.c_str(), W_OK | X_OK) != 0)
+    return "no folder can be created in " + up.string() + " (" + std::strerror(errno) + ")";
+  return "";
 }
 
 int explain(const ratchet::World& world) {
@@ -78,23 +151,8 @@ bool launched_by_mpirun() {
          std::getenv("PMIX_RANK") != nullptr;
 }
 
-int sweep(const std::vector<std::string>& args) {
-  std::string sweep_path, out_dir;
-  int jobs = 0;
-  for (std::size_t i = 1; i < args.size(); ++i) {
-    const std::string& a = args[i];
-    if (a == "--out" || a == "--jobs") {
-      if (i + 1 >= args.size()) return usage_error(a + " needs a value");
-      if (a == "--out") out_dir = args[++i];
-      else {
-        jobs = std::atoi(args[++i].c_str());
-        if (jobs < 1) return usage_error("--jobs needs a positive integer");
-      }
-    } else if (!a.empty() && a[0] == '-') return usage_error("unknown option '" + a + "'");
-    else if (sweep_path.empty()) sweep_path = a;
-    else return usage_error("more than one sweep file given");
-  }
-  if (sweep_path.empty() || out_dir.empty()) return usage_error("sweep needs SWEEP.json and --out DIR");
+// The arguments have been checked (ratchet_cli_main); jobs 0: the default.
+int sweep(const std::string& sweep_path, const std::string& out_dir, int jobs) {
   const bool mpi = launched_by_mpirun();
   int rank = 0, size = 1;
   if (mpi) {
@@ -145,42 +203,41 @@ int sweep(const std::vector<std::string>& args) {
   return status;
 }
 
-}  // namespace
-
-int ratchet_cli_main(int argc, char** argv) {
-  std::vector<std::string> args(argv + 1, argv + argc);
-  if (args.empty() || args[0] == "help" || args[0] == "--help" || args[0] == "-h") {
-    std::cout << kUsage;
-    return args.empty() ? 2 : 0;
-  }
-  if (args[0] == "--version") {
-    std::cout << "ratchet " << RATCHET_VERSION << " (" << RATCHET_BUILD_TYPE << ")\n";
-    return 0;
-  }
-  if (args[0] == "sweep") return sweep(args);
-  if (args[0] != "run" && args[0] != "pack") return usage_error("unknown command '" + args[0] + "'");
-  const bool pack = args[0] == "pack";
-  std::string scene_path, out_dir, packing;
+// What `run` and `pack` were given.
+struct SceneArgs {
+  std::string scene;
+  std::string out, packing;
   std::vector<std::string> overrides;
-  bool do_explain = false, quiet = false;
-  for (std::size_t i = 1; i < args.size(); ++i) {
-    const std::string& a = args[i];
-    if (a == "--explain" && !pack) do_explain = true;
-    else if (a == "--quiet") quiet = true;
-    else if (a == "--out" || a == "--set" || (a == "--packing" && !pack)) {
-      if (i + 1 >= args.size()) return usage_error(a + " needs a value");
-      (a == "--out" ? out_dir : a == "--packing" ? packing : (overrides.emplace_back(), overrides.back())) = args[++i];
-    } else if (!a.empty() && a[0] == '-') return usage_error("unknown option '" + a + "'");
-    else if (scene_path.empty()) scene_path = a;
-    else return usage_error("more than one scene file given ('" + scene_path + "', '" + a + "')");
+  bool explain = false, quiet = false;
+};
+
+int run_or_pack(const bool pack, const SceneArgs& a) {
+  const std::string command = pack ? "pack" : "run";
+  const std::string& out_dir = a.out;
+  const std::string& packing = a.packing;
+  const bool do_explain = a.explain, quiet = a.quiet;
+  if (a.scene.empty()) return usage_error("no scene file given", command);
+  const std::string& scene_path = a.scene;
+  if (pack && out_dir.empty()) return usage_error("--out FILE is required to pack a scene", command);
+  if (!do_explain && out_dir.empty()) return usage_error("--out DIR is required to run a scene", command);
+  if (pack) {
+    const fs::path file(out_dir), parent = file.parent_path().empty() ? fs::path(".") : file.parent_path();
+    std::error_code ec;
+    if (fs::is_directory(file, ec) || !file.has_filename())
+      return input_error("--out " + out_dir + ": expected a file (the packing), but it names a folder");
+    const std::string problem = folder_problem(parent);
+    if (!problem.empty())
+      return input_error("--out " + out_dir + ": expected a file in a folder that exists or can be created, but " +
+                         problem);
+  } else if (!do_explain) {  // with --explain, --out is ignored
+    const std::string problem = folder_problem(out_dir);
+    if (!problem.empty())
+      return input_error("--out " + out_dir + ": expected a folder, or a path where one can be created, but " +
+                         problem);
   }
-  if (scene_path.empty()) return usage_error("no scene file given");
-  if (pack && out_dir.empty()) return usage_error("--out FILE is required to pack a scene");
-  if (pack && std::filesystem::is_directory(out_dir)) return usage_error("--out FILE names a folder: " + out_dir);
-  if (!do_explain && out_dir.empty()) return usage_error("--out DIR is required to run a scene");
   try {
     // Everything that can reject the input happens before any output is created.
-    const ratchet::SceneDef scene = ratchet::load_scene(scene_path, overrides);
+    const ratchet::SceneDef scene = ratchet::load_scene(scene_path, a.overrides);
 #ifdef _OPENMP
     if (scene.solver.threads > 0) omp_set_num_threads(scene.solver.threads);
 #endif
@@ -200,9 +257,12 @@ int ratchet_cli_main(int argc, char** argv) {
           if (!progress || std::chrono::duration<double>(now - last).count() < 0.5) return;
           last = now;
           printed = true;
-          std::fprintf(stderr, "\r%s: settling, t=%.4g of at most %.4g, KE=%.3g   ", scene.name.c_str(), w.state().t,
-                       scene.settle.enabled ? scene.settle.max_time : scene.thermal.start_time,
-                       ratchet::kinetic_energy(w.scene(), w.state()));
+          char tail[160];
+          std::snprintf(tail, sizeof tail, ": settling, t=%.4g of at most %.4g, KE=%.3g", w.state().t,
+                        scene.settle.enabled ? scene.settle.max_time : scene.thermal.start_time,
+                        ratchet::kinetic_energy(w.scene(), w.state()));
+          // Cut to the terminal and cleared to its end, as run's line (run/runner.hpp).
+          std::fputs(ratchet::progress_line(scene.name + tail, ratchet::terminal_columns(STDERR_FILENO)).c_str(), stderr);
           std::fflush(stderr);
         });
       } catch (...) {
@@ -249,4 +309,138 @@ int ratchet_cli_main(int argc, char** argv) {
     std::cerr << "ratchet: error: " << e.what() << "\n";
     return 1;
   }
+}
+
+}  // namespace
+
+int ratchet_cli_main(int argc, char** argv) {
+  if (argc < 2) {
+    std::cout << kUsage;
+    return 2;
+  }
+  CLI::App app("ratchet: the NSCD reference engine", "ratchet");
+  app.formatter(std::make_shared<Formatter>());
+  app.footer("See docs/cli.md and docs/scene-format.md.");
+  // Before the commands: they inherit the help flag.
+  app.set_help_flag("-h,--help", "print this help and exit");
+  app.set_version_flag("-V,--version", std::string(kVersion), "print the version and build type and exit");
+  app.require_subcommand(0, 1);
+  app.allow_extras();  // unknown commands and options are reported below, in our words
+  app.option_defaults()->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);  // as before: the last one counts
+
+  CLI::App* help = app.add_subcommand("help", "print the usage, or the options of COMMAND");
+  std::string help_topic;
+  help->add_option("COMMAND", help_topic, "run, pack or sweep")->type_name("");
+  CLI::App* version = app.add_subcommand("version", "print the version and build type");
+
+  SceneArgs run_args, pack_args;
+  CLI::App* run = app.add_subcommand("run", "Run a scene: DIR/timeseries.csv, DIR/bodies.csv, DIR/run.json and "
+                                             "the outputs the scene asks for (docs/output-format.md).");
+  run->add_option("SCENE.json", run_args.scene, "the scene file (docs/scene-format.md)")->type_name("");
+  run->add_option("--out", run_args.out, "output folder, created if missing; required unless --explain")
+      ->type_name("DIR");
+  run->add_option("--packing", run_args.packing, "start from this settled packing (made by ratchet pack)")
+      ->type_name("FILE");
+  run->add_option("--set", run_args.overrides,
+                  "override a scene field before checking; repeatable, applied in order")
+      ->type_name("key.path=value")
+      ->expected(1)  // one value per --set: the scene path after it stays a path
+      ->allow_extra_args(false)
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+  run->add_flag("--explain", run_args.explain, "print the steps' phases and why, write nothing (--out is ignored)");
+  run->add_flag("--quiet", run_args.quiet, "no progress line and no closing summary line");
+
+  CLI::App* pack = app.add_subcommand("pack", "Pour and settle the bed to the end of the settle stage and write "
+                                               "that state (a packing) to FILE.");
+  pack->add_option("SCENE.json", pack_args.scene, "the scene file (it needs a thermal section)")->type_name("");
+  pack->add_option("--out", pack_args.out,
+                   "the packing file (required); its folder is created if missing; not a folder")
+      ->type_name("FILE");
+  pack->add_option("--set", pack_args.overrides, "override a scene field before checking; repeatable")
+      ->type_name("key.path=value")
+      ->expected(1)
+      ->allow_extra_args(false)
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+  pack->add_flag("--quiet", pack_args.quiet, "no progress line and no closing line");
+
+  std::string sweep_file, sweep_out, jobs_text;
+  CLI::App* sweep_cmd = app.add_subcommand("sweep", "Run every point of a sweep (grid x realizations) from shared "
+                                                    "packings; resumes: complete runs are kept (docs/sweeps.md).");
+  sweep_cmd->add_option("SWEEP.json", sweep_file, "the sweep file")->type_name("");
+  sweep_cmd->add_option("--out", sweep_out, "output folder (required); each run goes to DIR/runs/<id>/")
+      ->type_name("DIR");
+  // Read as text and checked below: CLI11 would name neither the option nor the rule.
+  sweep_cmd->add_option("--jobs", jobs_text,
+                        "runs at a time per process, N >= 1 (default: all cores; 1 per rank under mpirun)")
+      ->type_name("N");
+  for (CLI::App* sub : {help, version, run, pack, sweep_cmd}) sub->allow_extras();
+
+  const auto command_of = [&]() -> std::string {
+    const auto subs = app.get_subcommands();
+    return subs.empty() ? "" : subs.front()->get_name();
+  };
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp&) {
+    if (command_of().empty()) std::cout << kUsage;
+    else std::cout << app.help();  // the help of the command given
+    return 0;
+  } catch (const CLI::CallForVersion&) {
+    std::cout << kVersion << "\n";
+    return 0;
+  } catch (const CLI::ParseError& e) {
+    // "--out: 1 required DIR missing" is an option given without its value.
+    const std::string what = e.what();
+    if (e.get_name() == "ArgumentMismatch" && what.find(" required ") != std::string::npos &&
+        what.size() > 8 && what.compare(what.size() - 8, 8, " missing") == 0)
+      return usage_error(what.substr(0, what.find(':')) + " needs a value", command_of());
+    return usage_error(what, command_of());
+  }
+  const std::string command = command_of();
+  // Unknown arguments: the first one, as a command or as an option of the command.
+  for (CLI::App* level : {static_cast<CLI::App*>(&app), command.empty() ? nullptr : app.get_subcommand(command)}) {
+    const std::vector<std::string> extras = level == nullptr ? std::vector<std::string>() : level->remaining();
+    if (extras.empty()) continue;
+    const std::string& extra = extras.front();
+    if (!extra.empty() && extra[0] == '-') return usage_error("unknown option '" + extra + "'", command);
+    if (command.empty()) return usage_error("unknown command '" + extra + "'");
+    if (command == "run" || command == "pack")
+      return usage_error("more than one scene file given ('" + (command == "run" ? run_args : pack_args).scene +
+                         "', '" + extra + "')", command);
+    if (command == "sweep") return usage_error("more than one sweep file given", command);
+    return usage_error("unexpected argument '" + extra + "'", command);
+  }
+  if (command.empty()) {  // no command and nothing left over: as with no arguments
+    std::cout << kUsage;
+    return 2;
+  }
+  if (command == "help") {
+    if (help_topic.empty()) {
+      std::cout << kUsage;
+      return 0;
+    }
+    if (kSynopsis.count(help_topic) == 0)  // every command has a synopsis
+      return usage_error("unknown command '" + help_topic + "'", "help");
+    std::cout << app.get_subcommand(help_topic)->help();
+    return 0;
+  }
+  if (command == "version") {
+    std::cout << kVersion << "\n";
+    return 0;
+  }
+  if (command == "sweep") {
+    if (sweep_file.empty() || sweep_out.empty()) return usage_error("sweep needs SWEEP.json and --out DIR", command);
+    int jobs = 0;  // the default
+    if (sweep_cmd->count("--jobs") > 0) {
+      const std::optional<int> n = positive_int(jobs_text);
+      if (!n) return usage_error("--jobs: expected a whole number >= 1 (runs at a time), got '" + jobs_text + "'", command);
+      jobs = *n;
+    }
+    const std::string problem = folder_problem(sweep_out);
+    if (!problem.empty())
+      return input_error("--out " + sweep_out + ": expected a folder, or a path where one can be created, but " +
+                         problem);
+    return sweep(sweep_file, sweep_out, jobs);
+  }
+  return run_or_pack(command == "pack", command == "pack" ? pack_args : run_args);
 }

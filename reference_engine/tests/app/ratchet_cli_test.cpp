@@ -9,19 +9,23 @@
 #include <fstream>
 #include <memory>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace {
 
 namespace fs = std::filesystem;
 using ::testing::HasSubstr;
+using ::testing::Not;
 
 struct Result {
   int status;
   std::string output;  // stdout and stderr
 };
 
-Result run(const std::string& args) {
-  const std::string cmd = std::string(RATCHET_BIN) + " " + args + " 2>&1";
+// `redirect` chooses what is read: both streams (default), or one of them.
+Result run(const std::string& args, const std::string& redirect = "2>&1") {
+  const std::string cmd = std::string(RATCHET_BIN) + " " + args + " " + redirect;
   std::unique_ptr<FILE, int (*)(FILE*)> pipe(popen(cmd.c_str(), "r"), pclose);
   std::string out;
   std::array<char, 4096> buf{};
@@ -29,6 +33,8 @@ Result run(const std::string& args) {
   const int raw = pclose(pipe.release());
   return {WEXITSTATUS(raw), out};
 }
+Result stdout_of(const std::string& args) { return run(args, "2>/dev/null"); }
+Result stderr_of(const std::string& args) { return run(args, "2>&1 >/dev/null"); }
 
 fs::path scratch() {
   const fs::path d = fs::temp_directory_path() /
@@ -202,10 +208,171 @@ TEST(RatchetCli, PackingOfAnotherSceneOrDamagedIsRefusedBeforeAnyOutput) {
 }
 
 TEST(RatchetCli, UsageErrors) {
-  EXPECT_EQ(run("").status, 2);
-  EXPECT_EQ(run("frobnicate").status, 2);
+  Result r = stdout_of("");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_THAT(r.output, HasSubstr("usage:"));  // on stdout
+  r = run("frobnicate");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_THAT(r.output, HasSubstr("ratchet: unknown command 'frobnicate'"));
   EXPECT_EQ(run("run scene.json").status, 2);  // no --out
-  EXPECT_EQ(run("--version").status, 0);
+  r = run("run scene.json --out d --frob");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_THAT(r.output, HasSubstr("ratchet: unknown option '--frob'"));
+  EXPECT_THAT(r.output, HasSubstr("ratchet run SCENE.json --out DIR"));  // the usage of the command follows
+  r = run("pack scene.json --explain --out p.state");  // run's option, not pack's
+  EXPECT_EQ(r.status, 2);
+  EXPECT_THAT(r.output, HasSubstr("unknown option '--explain'"));
+  r = run("run scene.json --out");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_THAT(r.output, HasSubstr("ratchet: --out needs a value"));
+  r = run("run a.json b.json --out d");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_THAT(r.output, HasSubstr("more than one scene file given ('a.json', 'b.json')"));
+  r = run("sweep a.json b.json --out d");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_THAT(r.output, HasSubstr("more than one sweep file given"));
+  r = run("sweep a.json");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_THAT(r.output, HasSubstr("sweep needs SWEEP.json and --out DIR"));
+}
+
+// Options and the scene path in any order; --set takes one value, so the path after it
+// stays the scene.
+TEST(RatchetCli, OptionsInAnyOrder) {
+  const fs::path d = scratch();
+  write(d / "s.json", kScene);
+  const Result r = run("run --set effects.friction=false " + (d / "s.json").string() +
+                       " --explain --set solver.warm_start=false");
+  EXPECT_EQ(r.status, 0) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("normal part only: effects.friction is off"));
+  EXPECT_THAT(r.output, HasSubstr("keep_impulses  skip solver.warm_start is off"));
+  fs::remove_all(d);
+}
+
+TEST(RatchetCli, HelpOfTheProgramAndOfEachCommandOnStdout) {
+  for (const char* flag : {"--help", "-h", "help"}) {
+    const Result r = stdout_of(flag);
+    EXPECT_EQ(r.status, 0) << flag;
+    for (const char* line : {"usage:", "ratchet run SCENE.json --out DIR", "ratchet pack SCENE.json --out FILE",
+                             "ratchet sweep SWEEP.json --out DIR [--jobs N]", "ratchet --version | -V | version"})
+      EXPECT_THAT(r.output, HasSubstr(line)) << flag;
+  }
+  // Each command's help: its usage and every one of its options, on stdout, nothing on stderr.
+  const std::vector<std::pair<std::string, std::vector<std::string>>> commands = {
+      {"run", {"ratchet run SCENE.json --out DIR", "ratchet run --explain SCENE.json", "--out DIR", "--packing FILE",
+               "--set key.path=value", "--explain", "--quiet"}},
+      {"pack", {"ratchet pack SCENE.json --out FILE", "--out FILE", "--set key.path=value", "--quiet"}},
+      {"sweep", {"ratchet sweep SWEEP.json --out DIR [--jobs N]", "--out DIR", "--jobs N"}},
+  };
+  for (const auto& [command, texts] : commands) {
+    for (const char* flag : {" --help", " -h"}) {
+      const Result out = stdout_of(command + flag), err = stderr_of(command + flag);
+      EXPECT_EQ(out.status, 0) << command << flag;
+      EXPECT_EQ(err.output, "") << command << flag;
+      for (const std::string& t : texts) EXPECT_THAT(out.output, HasSubstr(t)) << command << flag;
+    }
+    EXPECT_EQ(stdout_of("help " + command).output, stdout_of(command + " --help").output) << command;
+  }
+  EXPECT_THAT(stdout_of("run --help").output, Not(HasSubstr("--jobs")));  // the command's own options only
+  // --help wins over the rest of the line: nothing runs, nothing is written.
+  const fs::path d = scratch();
+  write(d / "s.json", kScene);
+  EXPECT_EQ(run("run " + (d / "s.json").string() + " --out " + (d / "out").string() + " --help").status, 0);
+  EXPECT_FALSE(fs::exists(d / "out"));
+  EXPECT_EQ(stdout_of("help version").status, 0);
+  const Result r = run("help frobnicate");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_THAT(r.output, HasSubstr("unknown command 'frobnicate'"));
+  fs::remove_all(d);
+}
+
+TEST(RatchetCli, VersionFlagsAndCommand) {
+  const std::string expected = std::string("ratchet ") + RATCHET_VERSION + " (" + RATCHET_BUILD_TYPE + ")\n";
+  for (const char* args : {"--version", "-V", "version"}) {
+    const Result r = stdout_of(args);
+    EXPECT_EQ(r.status, 0) << args;
+    EXPECT_EQ(r.output, expected) << args;
+  }
+}
+
+// A one-run sweep of the thermal scene: valid, so that only --jobs or --out can stop it.
+std::string write_sweep(const fs::path& d) {
+  write(d / "sw.json", std::string(R"({"scene": )") + kThermalScene + R"(, "realizations": 1})");
+  return (d / "sw.json").string();
+}
+
+TEST(RatchetCli, JobsMustBeAWholeNumberOfAtLeastOne) {
+  const fs::path d = scratch();
+  const std::string sweep = write_sweep(d), out = (d / "o").string();
+  for (const char* jobs : {"2x", "0", "-1", "1.5", "''", "99999999999"}) {
+    const Result r = run("sweep " + sweep + " --out " + out + " --jobs " + jobs);
+    EXPECT_EQ(r.status, 2) << jobs << ": " << r.output;
+    EXPECT_THAT(r.output, HasSubstr("ratchet: --jobs: expected a whole number >= 1 (runs at a time), got '")) << jobs;
+    EXPECT_FALSE(fs::exists(out)) << jobs;  // refused before any work
+  }
+  EXPECT_THAT(run("sweep " + sweep + " --out " + out + " --jobs=2x").output, HasSubstr("got '2x'"));
+  EXPECT_THAT(run("sweep " + sweep + " --out " + out + " --jobs").output, HasSubstr("ratchet: --jobs needs a value"));
+  EXPECT_FALSE(fs::exists(out));
+  fs::remove_all(d);
+}
+
+// A typo in a --set names the --set, not the scene file; a typo in the file names the file.
+TEST(RatchetCli, SetErrorsNameTheOptionAndSuggestTheField) {
+  const fs::path d = scratch();
+  const std::string scene = (d / "s.json").string();
+  write(scene, kScene);
+  Result r = run("run " + scene + " --out " + (d / "out").string() + " --set solver.tolerence=1e-6");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_THAT(r.output, HasSubstr("ratchet: error: --set solver.tolerence=1e-6 (command-line option, applied to " +
+                                  scene + "): field 'solver.tolerence': unknown field, did you mean "
+                                          "'solver.tolerance'?"));
+  EXPECT_THAT(r.output, Not(HasSubstr(scene + ": field")));
+  EXPECT_FALSE(fs::exists(d / "out"));
+  std::string typo = kScene;
+  typo.replace(typo.find("\"time\""), 6, "\"solver\": {\"tolerence\": 1e-6}, \"time\"");
+  write(d / "typo.json", typo);
+  r = run("run " + (d / "typo.json").string() + " --explain --set solver.p_gap=0.5");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_THAT(r.output, HasSubstr("ratchet: error: " + (d / "typo.json").string() +
+                                  ": field 'solver.tolerence': unknown field, did you mean 'solver.tolerance'?"));
+  EXPECT_THAT(r.output, Not(HasSubstr("--set")));
+  fs::remove_all(d);
+}
+
+// --out that cannot be the output is refused at once (exit 2), not after the work.
+TEST(RatchetCli, OutThatIsAFileIsRefusedBeforeAnyWork) {
+  const fs::path d = scratch();
+  write(d / "s.json", kScene);
+  write(d / "t.json", kThermalScene);
+  write(d / "afile", "keep");
+  const std::string afile = (d / "afile").string(), sweep = write_sweep(d);
+  Result r = run("run " + (d / "s.json").string() + " --out " + afile);
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("ratchet: error: --out " + afile +
+                                  ": expected a folder, or a path where one can be created, but " + afile +
+                                  " is a file"));
+  r = run("run " + (d / "s.json").string() + " --out " + afile + "/sub");
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("--out " + afile + "/sub: expected a folder, or a path where one can be created, "
+                                  "but " + afile + " is a file"));
+  r = run("sweep " + sweep + " --out " + afile);
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("ratchet: error: --out " + afile + ": expected a folder"));
+  EXPECT_THAT(r.output, Not(HasSubstr("ratchet sweep:")));  // no sweep started
+  r = run("pack " + (d / "t.json").string() + " --out " + afile + "/p.state");
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("ratchet: error: --out " + afile + "/p.state: expected a file in a folder that "
+                                  "exists or can be created, but " + afile + " is a file"));
+  r = run("pack " + (d / "t.json").string() + " --out " + d.string());
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("--out " + d.string() + ": expected a file (the packing), but it names a folder"));
+  EXPECT_EQ(slurp(afile), "keep");
+  // With --explain, --out is ignored.
+  EXPECT_EQ(run("run --explain " + (d / "s.json").string() + " --out " + afile).status, 0);
+  // A folder that does not exist yet, several levels deep, is fine.
+  EXPECT_EQ(run("run " + (d / "s.json").string() + " --quiet --out " + (d / "new" / "deep").string()).status, 0);
+  EXPECT_TRUE(fs::exists(d / "new" / "deep" / "run.json"));
+  fs::remove_all(d);
 }
 
 }  // namespace

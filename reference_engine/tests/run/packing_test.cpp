@@ -169,7 +169,15 @@ void expect_restart_is_bit_identical(const json& base, const std::string& name) 
   for (const char* f : {"cycles.csv", "wall_profile.csv", "displacement_0_1.csv"})
     EXPECT_EQ(lines_of(d / "straight" / f), lines_of(d / "restart" / f)) << f;
   const json a = read_json(d / "straight" / "run.json"), b = read_json(d / "restart" / "run.json");
-  EXPECT_EQ(a.at("summary"), b.at("summary"));
+  // The observables agree; the solver counts cover each run's own steps (the straight
+  // run's include the pour's), so they are compared apart.
+  json sa = a.at("summary"), sb = b.at("summary");
+  EXPECT_LE(sb.at("unconverged_steps").get<long long>(), sa.at("unconverged_steps").get<long long>());
+  for (const char* key : {"unconverged_steps", "unconverged_fraction"}) {
+    sa.erase(key);
+    sb.erase(key);
+  }
+  EXPECT_EQ(sa, sb);
   EXPECT_TRUE(a.at("summary").at("P_max").is_number());
   EXPECT_EQ(a.at("settle"), b.at("settle"));  // recorded by the run, and copied from the packing
   EXPECT_EQ(a.at("settle").at("step_end"), k);

@@ -6,6 +6,10 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
 
 namespace ratchet {
 namespace {
@@ -13,6 +17,7 @@ namespace {
 using nlohmann::json;
 using ::testing::AllOf;
 using ::testing::HasSubstr;
+using ::testing::Not;
 
 json minimal_scene() {
   return json::parse(R"({
@@ -236,6 +241,89 @@ TEST(Scene, OverridesSetNestedFieldsAndAreChecked) {
   EXPECT_EQ(s.name, "renamed");
   EXPECT_THROW(apply_override(j, "solver.p_gap", "scene.json"), SceneError);
   EXPECT_THROW(apply_override(j, "name.x=1", "scene.json"), SceneError);
+}
+
+TEST(Scene, UnknownFieldSuggestsTheClosestKnownOne) {
+  json j = minimal_scene();
+  j["solver"] = {{"tolerence", 1e-6}};
+  EXPECT_THAT(error_of(j), HasSubstr("scene.json: field 'solver.tolerence': unknown field, did you mean "
+                                     "'solver.tolerance'? (known fields here: tolerance, criterion,"));
+  j["solver"] = {{"toleracne", 1e-6}};  // a transposition is one edit
+  EXPECT_THAT(error_of(j), HasSubstr("did you mean 'solver.tolerance'?"));
+  j = minimal_scene();
+  j["time"]["dtt"] = 1;
+  EXPECT_THAT(error_of(j), HasSubstr("field 'time.dtt': unknown field, did you mean 'time.dt'?"));
+  j = minimal_scene();
+  j["colour"] = 1;  // nothing close: no guess
+  EXPECT_THAT(error_of(j), AllOf(HasSubstr("field 'colour': unknown field (known fields here: name,"),
+                                 Not(HasSubstr("did you mean"))));
+}
+
+TEST(Scene, ErrorInsideAListedBodyNamesItsOriginOnce) {
+  json j = minimal_scene();
+  j["particles"]["bodies"][0]["radius"] = -0.5;
+  EXPECT_EQ(error_of(j), "scene.json: field 'particles.bodies[0].radius': expected a finite positive number, got -0.5");
+}
+
+// load_scene with --set overrides: an error in what a --set wrote names the --set.
+class SceneFile : public ::testing::Test {
+ protected:
+  std::string path = (std::filesystem::temp_directory_path() / "ratchet_scene_origin.json").string();
+  void SetUp() override { write(minimal_scene()); }
+  void TearDown() override { std::filesystem::remove(path); }
+  void write(const json& j) const { std::ofstream(path) << j.dump(); }
+  std::string load_error(const std::vector<std::string>& overrides) const {
+    try {
+      load_scene(path, overrides);
+    } catch (const SceneError& e) {
+      return e.what();
+    }
+    return "";
+  }
+  std::string from_set(const std::string& assignment) const {
+    return "--set " + assignment + " (command-line option, applied to " + path + "): ";
+  }
+};
+
+TEST_F(SceneFile, UnknownFieldFromSetNamesTheSetAndSuggests) {
+  EXPECT_EQ(load_error({"solver.tolerence=1e-6"}).rfind(from_set("solver.tolerence=1e-6") +
+                                                          "field 'solver.tolerence': unknown field, did you mean "
+                                                          "'solver.tolerance'? (known fields here: ",
+                                                      0),
+            0u)
+      << load_error({"solver.tolerence=1e-6"});
+}
+
+TEST_F(SceneFile, BadValueFromSetNamesTheSet) {
+  EXPECT_EQ(load_error({"solver.p_gap=0.5", "solver.theta=2"}),
+            from_set("solver.theta=2") + "field 'solver.theta': expected a number in [0.5, 1], got 2");
+  // A whole section replaced by a --set: what it lacks is the --set's too.
+  EXPECT_THAT(load_error({"time={\"dt\": 0.1}"}),
+              HasSubstr(from_set("time={\"dt\": 0.1}") + "field 'time.duration': expected a positive duration"));
+  // A --set that makes a section the file has not: its missing required fields.
+  EXPECT_EQ(load_error({"settle.max_time=5"}).rfind(from_set("settle.max_time=5") + "field 'settle.ke_ratio'", 0), 0u);
+  // Below a field the --set made: solver.tolerence did not exist in the file.
+  EXPECT_EQ(load_error({"solver.tolerence.x=1"}).rfind(from_set("solver.tolerence.x=1") + "field 'solver.tolerence'", 0),
+            0u);
+}
+
+TEST_F(SceneFile, ErrorsOfTheFileStillNameTheFile) {
+  json j = minimal_scene();
+  j["solver"] = {{"theta", 2}};
+  write(j);
+  // A --set elsewhere, or inside the same section, does not take the blame.
+  for (const char* set : {"solver.p_gap=0.5", "solver.tolerance=1e-6", "seed=3"})
+    EXPECT_EQ(load_error({set}), path + ": field 'solver.theta': expected a number in [0.5, 1], got 2") << set;
+  j = minimal_scene();
+  j["solver"] = {{"tolerence", 1e-6}};
+  write(j);
+  EXPECT_EQ(load_error({"solver.p_gap=0.5"}).rfind(path + ": field 'solver.tolerence': unknown field, did you mean", 0),
+            0u);
+  // A required field the file lacks, next to a --set in the same section: the file's.
+  j = minimal_scene();
+  j["time"].erase("duration");
+  write(j);
+  EXPECT_EQ(load_error({"time.dt=0.02"}).rfind(path + ": field 'time.duration'", 0), 0u);
 }
 
 TEST(Scene, LoadReportsSyntaxErrorsAndMissingFiles) {

@@ -4,6 +4,8 @@
 #include "ratchet/world/world.hpp"
 
 #include <gtest/gtest.h>
+
+#include <cmath>
 #include <omp.h>
 
 #include <filesystem>
@@ -108,17 +110,31 @@ TEST(World, FrictionOffAndMuZeroGiveIdenticalTrajectories) {
 // The step records the largest overlap it found: a sphere listed 0.1 into the floor
 // starts with exactly that overlap, and the gap relaxation then removes a fraction p_gap
 // of it per step (docs/method.md s. 5), without gravity to press it back.
-TEST(World, MaxOverlapIsTheDeepestContactAndShrinksByPGapPerStep) {
-  World world(build_scene(json::parse(R"({
+// Gap relaxation (docs/method.md s. 5): an overlap shrinks by p_gap per step while the
+// speed p_gap delta / h is below the cap sqrt(2 g* max(delta, margin)), and at the
+// capped speed above it (g* = 1 without gravity, margin 0.05).
+World sunk_sphere(double depth) {
+  json scene = json::parse(R"({
     "name": "sunk", "time": {"dt": 0.01, "duration": 0.05}, "effects": {"gravity": false},
     "solver": {"p_gap": 0.2, "tolerance": 1e-12},
     "container": {"type": "planes", "planes": [{"normal": [0, 0, 1], "point": [0, 0, 0]}]},
     "particles": {"bodies": [{"shape": "sphere", "radius": 0.5, "position": [0, 0, 0.4]}]}
-  })"), "sunk.json"));
-  world.step();
-  EXPECT_NEAR(world.stats().max_overlap, 0.1, 1e-12);  // geometry only: round-off
-  world.step();
-  EXPECT_NEAR(world.stats().max_overlap, 0.1 * (1.0 - 0.2), 1e-12);  // one step of relaxation
+  })");
+  scene["particles"]["bodies"][0]["position"][2] = 0.5 - depth;
+  return World(build_scene(scene, "sunk.json"));
+}
+
+TEST(World, MaxOverlapIsTheDeepestContactAndShrinksByPGapPerStep) {
+  World shallow = sunk_sphere(0.01);  // speed 0.2 below the cap sqrt(0.1) = 0.316
+  shallow.step();
+  EXPECT_NEAR(shallow.stats().max_overlap, 0.01, 1e-12);  // geometry only: round-off
+  shallow.step();
+  EXPECT_NEAR(shallow.stats().max_overlap, 0.01 * (1.0 - 0.2), 1e-12);  // one step of relaxation
+  World deep = sunk_sphere(0.1);  // speed 2 above the cap sqrt(0.2) = 0.447
+  deep.step();
+  EXPECT_NEAR(deep.stats().max_overlap, 0.1, 1e-12);
+  deep.step();
+  EXPECT_NEAR(deep.stats().max_overlap, 0.1 - std::sqrt(2.0 * 0.1) * 0.01, 1e-12);  // the capped speed
   World apart(build_scene(json::parse(R"({
     "name": "apart", "time": {"dt": 0.01, "duration": 0.05}, "effects": {"gravity": false},
     "container": {"type": "planes", "planes": [{"normal": [0, 0, 1], "point": [0, 0, 0]}]},

@@ -1,8 +1,12 @@
 #include "ratchet/run/runner.hpp"
 
+#include <sys/ioctl.h>
+#include <unistd.h>
+
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <memory>
 #include <optional>
 #include <vector>
@@ -26,6 +30,31 @@ std::string format_seconds(double s) {
 
 }  // namespace
 
+std::string progress_line(const std::string& text, int columns) {
+  if (columns <= 0) return "\r" + text + "   ";  // not a terminal: as it always was
+  // The last column stays free: some terminals wrap as soon as it is written, and a
+  // wrapped line cannot be rewritten with \r. Cut at a UTF-8 character boundary.
+  const std::size_t room = columns > 1 ? static_cast<std::size_t>(columns - 1) : 1;
+  std::size_t end = 0, chars = 0;
+  for (; end < text.size(); ++end) {
+    if ((static_cast<unsigned char>(text[end]) & 0xC0) == 0x80) continue;  // inside a character
+    if (chars == room) break;
+    ++chars;
+  }
+  return "\r" + text.substr(0, end) + "\x1b[K";  // clear what a longer line left
+}
+
+int terminal_columns(int fd) {
+  winsize ws{};
+  if (ioctl(fd, TIOCGWINSZ, &ws) == 0 && ws.ws_col > 0) return ws.ws_col;
+  if (const char* env = std::getenv("COLUMNS")) {
+    char* end = nullptr;
+    const long n = std::strtol(env, &end, 10);
+    if (end != env && *end == '\0' && n > 0 && n <= 100000) return static_cast<int>(n);
+  }
+  return 80;
+}
+
 RunResult run_world(World& world, const RunOptions& options, const std::function<void(const World&)>& each_step) {
   const SceneDef& scene = world.scene();  // its end and start_time move when a settle section's stage ends
   RunObservers observers(world, options.out_dir);
@@ -42,6 +71,7 @@ RunResult run_world(World& world, const RunOptions& options, const std::function
   }
   const auto start = std::chrono::steady_clock::now();
   auto last_print = start;
+  const bool tty = options.progress && isatty(STDERR_FILENO) == 1;
   const int every_ts = scene.outputs.timeseries_every;
   const int every_bodies = scene.outputs.bodies_every;
   // A run from a packing starts after its settle stage and reports the packing's record.
@@ -85,11 +115,14 @@ RunResult run_world(World& world, const RunOptions& options, const std::function
           last_print = now;
           const double el = std::chrono::duration<double>(now - start).count();
           const double left = el / static_cast<double>(k) * static_cast<double>(total - k);
-          std::fprintf(stderr, "\r%s: step %lld/%lld%s (%.1f%%) t=%.4g T=%.4g contacts=%d iter=%d  %s left   ",
-                       scene.name.c_str(), static_cast<long long>(k), static_cast<long long>(total),
-                       world.settling() ? " at most, settling" : "",
-                       100.0 * static_cast<double>(k) / static_cast<double>(total), world.state().t, world.state().T,
-                       world.stats().contacts, world.stats().iterations, format_seconds(left).c_str());
+          char tail[256];
+          std::snprintf(tail, sizeof tail, ": step %lld/%lld%s (%.1f%%) t=%.4g T=%.4g contacts=%d iter=%d  %s left",
+                        static_cast<long long>(k), static_cast<long long>(total),
+                        world.settling() ? " at most, settling" : "",
+                        100.0 * static_cast<double>(k) / static_cast<double>(total), world.state().t, world.state().T,
+                        world.stats().contacts, world.stats().iterations, format_seconds(left).c_str());
+          // The width is read at each print: the terminal may have been resized.
+          std::fputs(progress_line(scene.name + tail, tty ? terminal_columns(STDERR_FILENO) : 0).c_str(), stderr);
           printed = k != total;
           if (k == total) std::fprintf(stderr, "\n");
           std::fflush(stderr);

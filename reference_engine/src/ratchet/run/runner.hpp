@@ -34,6 +34,15 @@ struct RunError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// The progress line as written to stderr (docs/cli.md, "Progress line"). On a terminal
+// of `columns` columns: "\r", `text` cut to columns - 1 characters and "\x1b[K" (clear
+// to the end of the line), so a shorter line leaves nothing behind and a long one does
+// not wrap. Not a terminal (columns <= 0): "\r", `text` and three spaces.
+std::string progress_line(const std::string& text, int columns);
+
+// Width of the terminal on `fd`: TIOCGWINSZ, else $COLUMNS, else 80.
+int terminal_columns(int fd);
+
 // Runs world until scene().steps steps are done. Calls `each_step` (if given) after
 // every step, e.g. for tests that watch the trajectory.
 RunResult run_world(World& world, const RunOptions& options,

@@ -1,5 +1,6 @@
 #include "ratchet/scene/scene.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <functional>
@@ -15,14 +16,47 @@ using nlohmann::json;
 
 namespace {
 
-// Reading context: every error names the file, the field (dotted path) and what was
-// expected, and shows what was found.
+// Optimal string alignment distance (a transposition counts as one edit): how far a
+// mistyped field name is from a known one.
+std::size_t edit_distance(const std::string& a, const std::string& b) {
+  std::vector<std::vector<std::size_t>> d(a.size() + 1, std::vector<std::size_t>(b.size() + 1));
+  for (std::size_t i = 0; i <= a.size(); ++i) d[i][0] = i;
+  for (std::size_t k = 0; k <= b.size(); ++k) d[0][k] = k;
+  for (std::size_t i = 1; i <= a.size(); ++i)
+    for (std::size_t k = 1; k <= b.size(); ++k) {
+      const std::size_t cost = a[i - 1] == b[k - 1] ? 0 : 1;
+      d[i][k] = std::min({d[i - 1][k] + 1, d[i][k - 1] + 1, d[i - 1][k - 1] + cost});
+      if (i > 1 && k > 1 && a[i - 1] == b[k - 2] && a[i - 2] == b[k - 1]) d[i][k] = std::min(d[i][k], d[i - 2][k - 2] + 1);
+    }
+  return d[a.size()][b.size()];
+}
+
+// The known name closest to `unknown`, or "" when none is close enough to be a typo
+// (at most 2 edits, and at most a third of the name).
+std::string closest_name(const std::string& unknown, std::initializer_list<const char*> known) {
+  const std::size_t limit = std::max<std::size_t>(1, std::min<std::size_t>(2, unknown.size() / 3));
+  std::string best;
+  std::size_t best_d = limit + 1;
+  for (const char* k : known) {
+    const std::size_t d = edit_distance(unknown, k);
+    if (d < best_d) best_d = d, best = k;
+  }
+  return best;
+}
+
+// Reading context: every error names where the value came from (the file, or the
+// --set option that put it there), the field (dotted path) and what was expected, and
+// shows what was found.
 struct Reader {
   std::string source;
+  // Where the value of a field came from; empty: always `source`.
+  std::function<std::string(const std::string& field)> origin_of;
+
+  std::string where(const std::string& field) const { return origin_of ? origin_of(field) : source; }
 
   [[noreturn]] void fail(const std::string& field, const std::string& expected,
                          const json* got = nullptr) const {
-    std::string msg = source + ": field '" + field + "': expected " + expected;
+    std::string msg = where(field) + ": field '" + field + "': expected " + expected;
     if (got != nullptr) {
       std::string shown = got->dump();
       if (shown.size() > 80) shown = shown.substr(0, 77) + "...";
@@ -44,8 +78,10 @@ struct Reader {
       if (!known) {
         std::string list;
         for (const char* a : allowed) list += (list.empty() ? "" : ", ") + std::string(a);
-        throw SceneError(source + ": field '" + join(path, it.key()) + "': unknown field (known fields here: " +
-                         list + ")");
+        const std::string field = join(path, it.key()), near = closest_name(it.key(), allowed);
+        throw SceneError(where(field) + ": field '" + field + "': unknown field" +
+                         (near.empty() ? "" : ", did you mean '" + join(path, near) + "'?") +
+                         " (known fields here: " + list + ")");
       }
     }
   }
@@ -292,7 +328,7 @@ void read_listed_bodies(const Reader& r, const json& list, SceneDef& s) {
           if (!vs.is_array() || vs.size() < 4) r.fail(f + ".vertices", "a list of at least 4 points [x, y, z]", &vs);
           std::vector<Vec3> pts;
           for (std::size_t k = 0; k < vs.size(); ++k) pts.push_back(r.vec3(vs[k], f + ".vertices[" + std::to_string(k) + "]"));
-          build = build_convex_polyhedron(pts, s.source + ": field '" + f + ".vertices'");
+          build = build_convex_polyhedron(pts, r.where(f + ".vertices") + ": field '" + f + ".vertices'");
         }
         // position is where the solid's centroid goes; orientation rotates the input frame.
         b.orientation = (q_input * Quat(build.rotation)).normalized();
@@ -300,10 +336,12 @@ void read_listed_bodies(const Reader& r, const json& list, SceneDef& s) {
       } else {
         r.fail(f + ".shape", "\"sphere\", \"box\" or \"polyhedron\"", j.contains("shape") ? &j.at("shape") : nullptr);
       }
+    } catch (const SceneError&) {
+      throw;  // already names its origin and field
     } catch (const std::invalid_argument& e) {
       throw SceneError(std::string(e.what()));
     } catch (const std::runtime_error& e) {  // Qhull failures other than bad input
-      throw SceneError(s.source + ": field '" + f + "': " + e.what());
+      throw SceneError(r.where(f) + ": field '" + f + "': " + e.what());
     }
   }
 }
@@ -477,7 +515,7 @@ void read_particles(const Reader& r, const json& j, SceneDef& s) {
   try {
     if (j.contains("generate")) read_generated(r, j.at("generate"), s, rng);
   } catch (const std::invalid_argument& e) {
-    throw SceneError(s.source + ": field 'particles.generate': " + e.what());
+    throw SceneError(r.where("particles.generate") + ": field 'particles.generate': " + e.what());
   }
   if (j.contains("bodies")) read_listed_bodies(r, j.at("bodies"), s);
   if (s.bodies.empty()) r.fail("particles", "at least one body (generate.count > 0 or a bodies list)");
@@ -516,8 +554,36 @@ void apply_override(json& scene, const std::string& assignment, const std::strin
   *node = value;
 }
 
-SceneDef build_scene(const json& j, const std::string& source) {
-  Reader r{source};
+namespace {
+
+// The field's JSON pointer: "a.b[2].c" -> /a/b/2/c; "(top level)" -> the root.
+json::json_pointer pointer_of(const std::string& field) {
+  std::string ptr;
+  if (field != "(top level)")
+    for (char c : field) {
+      if (c == '.' || c == '[') ptr += '/';
+      else if (c == '~') ptr += "~0";
+      else if (c == '/') ptr += "~1";
+      else if (c != ']') ptr += c;
+    }
+  return json::json_pointer(ptr.empty() ? "" : "/" + ptr);
+}
+
+// "a.b[2]" -> "a.b", "a.b" -> "a", "a" -> "".
+std::string parent_of(const std::string& field) {
+  const auto cut = field.find_last_of(".[");
+  return cut == std::string::npos ? "" : field.substr(0, cut);
+}
+
+// True when `inner` is `outer` or a field inside it (dotted path with [i] elements).
+bool within(const std::string& inner, const std::string& outer) {
+  return inner.size() >= outer.size() && inner.compare(0, outer.size(), outer) == 0 &&
+         (inner.size() == outer.size() || inner[outer.size()] == '.' || inner[outer.size()] == '[');
+}
+
+SceneDef build_scene_with(const json& j, const std::string& source,
+                          std::function<std::string(const std::string&)> origin_of) {
+  Reader r{source, std::move(origin_of)};
   r.object(j, "", {"name", "seed", "gravity", "time", "solver", "materials", "effects", "container",
                    "particles", "thermal", "outputs", "settle", "description"});
   SceneDef s;
@@ -561,6 +627,10 @@ SceneDef build_scene(const json& j, const std::string& source) {
   return s;
 }
 
+}  // namespace
+
+SceneDef build_scene(const json& j, const std::string& source) { return build_scene_with(j, source, nullptr); }
+
 SceneDef load_scene(const std::string& path, const std::vector<std::string>& overrides) {
   std::ifstream in(path);
   if (!in) throw SceneError(path + ": cannot open the scene file");
@@ -576,8 +646,25 @@ SceneDef load_scene(const std::string& path, const std::vector<std::string>& ove
     }
     throw SceneError(path + ": not valid JSON");
   }
+  const json file = j;
   for (const std::string& o : overrides) apply_override(j, o, path);
-  return build_scene(j, path);
+  // An error in a value that a --set put there names that --set, not the file: the
+  // field is the --set's key or inside it, or the file lacks the field and a --set made
+  // its outermost missing section (--set settle.max_time=5 makes 'settle').
+  const auto origin_of = [&](const std::string& field) -> std::string {
+    std::string made = field;  // the outermost section on the way to `field` that the file lacks
+    if (!file.contains(pointer_of(field)))
+      for (std::string up = parent_of(made); !up.empty() && !file.contains(pointer_of(up)); up = parent_of(up)) made = up;
+    else
+      made.clear();
+    for (auto o = overrides.rbegin(); o != overrides.rend(); ++o) {
+      const std::string key = o->substr(0, o->find('='));
+      if (within(field, key) || (!made.empty() && within(key, made)))
+        return "--set " + *o + " (command-line option, applied to " + path + ")";
+    }
+    return path;
+  };
+  return build_scene_with(j, path, origin_of);
 }
 
 }  // namespace ratchet
