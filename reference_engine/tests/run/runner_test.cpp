@@ -106,8 +106,51 @@ TEST(RunWorld, NonFiniteStateIsARunError) {
   RunOptions opt;
   opt.out_dir = d.string();
   EXPECT_THROW(run_world(world, opt), RunError);
-  EXPECT_FALSE(fs::exists(d / "run.json"));  // the run does not look complete
+  // Kept, marked failed: the run does not look complete, and says why.
+  const json meta = json::parse(std::ifstream(d / "run.json"));
+  EXPECT_EQ(meta.at("status"), "failed");
+  EXPECT_NE(meta.at("error").get<std::string>().find("non-finite at step 1"), std::string::npos);
+  EXPECT_EQ(lines_of(d / "timeseries.csv").size(), 2u);  // header and step 0: what was written
   fs::remove_all(d);
+}
+
+// A step far too large for the speed: the sphere passes the floor between two
+// detections (10 per step against the contact margin 0.05) and ends 5.01 below it
+// (5 - h (100 + g h)).
+TEST(RunWorld, ABodyOutsideTheContainerStopsTheRunNamingIt) {
+  const fs::path d = scratch("outside");
+  World world(build_scene(json::parse(R"({
+    "name": "tunnel", "time": {"dt": 0.1, "duration": 1.0},
+    "container": {"type": "planes", "planes": [{"normal": [0, 0, 1], "point": [0, 0, 0]}]},
+    "particles": {"bodies": [{"shape": "sphere", "radius": 0.5, "position": [0, 0, 5], "velocity": [0, 0, -100]},
+                             {"shape": "sphere", "radius": 0.5, "position": [3, 0, 0.5]}]}
+  })"), "tunnel.json"));
+  RunOptions opt;
+  opt.out_dir = d.string();
+  try {
+    run_world(world, opt);
+    ADD_FAILURE() << "the run completed";
+  } catch (const RunError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("tunnel.json: the state became unphysical at step 1"), std::string::npos) << what;
+    EXPECT_NE(what.find("1 body outside the container: body 0 (centre 5.01 behind wall 0, size 0.5)"),
+              std::string::npos) << what;
+  }
+  const json meta = json::parse(std::ifstream(d / "run.json"));
+  EXPECT_EQ(meta.at("status"), "failed");
+  EXPECT_EQ(meta.at("steps"), 1);
+  fs::remove_all(d);
+}
+
+// Within the bounds, the same scene with a sane step runs to the end.
+TEST(RunWorld, TheSameFallWithASmallStepCompletes) {
+  World world(build_scene(json::parse(R"({
+    "name": "fall", "time": {"dt": 0.001, "duration": 0.2},
+    "container": {"type": "planes", "planes": [{"normal": [0, 0, 1], "point": [0, 0, 0]}]},
+    "particles": {"bodies": [{"shape": "sphere", "radius": 0.5, "position": [0, 0, 5], "velocity": [0, 0, -30]}]}
+  })"), "fall.json"));
+  EXPECT_NO_THROW(run_world(world, {}));
+  EXPECT_GT(world.state().x[0].z(), 0.4);
 }
 
 }  // namespace

@@ -7,6 +7,7 @@
 #include "ratchet/io/state_file.hpp"
 #include "ratchet/observe/energy.hpp"
 #include "ratchet/run/runner.hpp"
+#include "ratchet/run/state_bounds.hpp"
 
 namespace ratchet {
 
@@ -160,6 +161,10 @@ json settle_world(World& world, const std::function<void(const World&)>& each_st
     if (!std::isfinite(kinetic_energy(world.scene(), world.state())))
       throw RunError(s.source + ": the state became non-finite at step " + std::to_string(world.state().step) +
                      " (t = " + std::to_string(world.state().t) + ") while settling; the time step may be too large");
+    if (const std::string wrong = unphysical_state(world); !wrong.empty())
+      throw RunError(s.source + ": the state became unphysical at step " + std::to_string(world.state().step) +
+                     " (t = " + std::to_string(world.state().t) + ") while settling: " + wrong +
+                     "; the time step may be too large for the speeds of the pour");
     monitor.after_step(world);
     if (each_step) each_step(world);
   }

@@ -15,6 +15,7 @@
 #include "ratchet/run/observers.hpp"
 #include "ratchet/run/packing.hpp"
 #include "ratchet/run/run_output.hpp"
+#include "ratchet/run/state_bounds.hpp"
 
 namespace ratchet {
 
@@ -90,6 +91,11 @@ RunResult run_world(World& world, const RunOptions& options, const std::function
       if (!std::isfinite(ke))
         throw RunError(scene.source + ": the state became non-finite at step " + std::to_string(k) +
                        " (t = " + std::to_string(world.state().t) + "); the time step may be too large");
+      if (const std::string wrong = unphysical_state(world); !wrong.empty())
+        throw RunError(scene.source + ": the state became unphysical at step " + std::to_string(k) +
+                       " (t = " + std::to_string(world.state().t) + "): " + wrong +
+                       "; the time step may be too large for the speeds, or the bed is jammed beyond what the "
+                       "contact law can hold");
       if (!world.stats().converged && first_capped < 0) {
         first_capped = k;
         first_capped_t = world.state().t;
@@ -129,6 +135,15 @@ RunResult run_world(World& world, const RunOptions& options, const std::function
         }
       }
     }
+  } catch (const RunError& e) {
+    if (printed) std::fprintf(stderr, "\n");
+    // Keep what was written, marked failed: the CSVs up to here and a run.json that says
+    // why (docs/output-format.md, "When a run fails").
+    if (out)
+      out->finish(world, {{"status", "failed"}, {"error", e.what()},
+                          {"wall_seconds", std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()},
+                          {"packing", options.packing}});
+    throw;
   } catch (...) {
     if (printed) std::fprintf(stderr, "\n");
     throw;

@@ -1,0 +1,66 @@
+#include "ratchet/run/state_bounds.hpp"
+
+#include <algorithm>
+#include <cstdio>
+#include <limits>
+
+namespace ratchet {
+
+namespace {
+
+constexpr int kNamed = 3;  // bodies named in the message; the count says how many more
+
+}  // namespace
+
+std::string unphysical_state(const World& world) {
+  const SceneDef& scene = world.scene();
+  const State& s = world.state();
+  const int n = static_cast<int>(scene.bodies.size());
+  const int nw = static_cast<int>(scene.container.walls.size());
+  const double margin = scene.solver.contact_margin;
+  // The container is an intersection of half-spaces (cone segments, floor, planes): a
+  // centre behind any of them by more than the body's own size is outside it.
+  std::string names;
+  int outside = 0;
+  for (int i = 0; i < n; ++i) {
+    const BodyDef& b = scene.bodies[static_cast<std::size_t>(i)];
+    if (b.fixed) continue;
+    const double reach = b.bounding_radius * world.body_scale(i) + margin;
+    for (int w = 0; w < nw; ++w) {
+      const WallDef& wall = scene.container.walls[static_cast<std::size_t>(w)];
+      const double d = wall.normal.dot(s.x[static_cast<std::size_t>(i)] - world.wall_point(w));
+      if (d < -reach) {
+        if (++outside <= kNamed) {
+          char text[160];
+          std::snprintf(text, sizeof text, "%sbody %d (centre %.3g behind wall %d, size %.3g)", names.empty() ? "" : ", ",
+                        i, -d, w, reach - margin);
+          names += text;
+        }
+        break;
+      }
+    }
+  }
+  if (outside > 0)
+    return std::to_string(outside) + " bod" + (outside == 1 ? "y" : "ies") + " outside the container: " + names +
+           (outside > kNamed ? ", ..." : "");
+  // An overlap deeper than the smallest body's bounding radius: one body inside another
+  // or inside a wall, which no contact law recovers from.
+  double r_min = std::numeric_limits<double>::infinity();
+  for (int i = 0; i < n; ++i)
+    if (!scene.bodies[static_cast<std::size_t>(i)].fixed)
+      r_min = std::min(r_min, scene.bodies[static_cast<std::size_t>(i)].bounding_radius * world.body_scale(i));
+  const double deepest = world.stats().max_overlap;
+  if (deepest > r_min) {
+    for (const SolverContact& c : world.contacts()) {
+      if (-c.geometry.gap < deepest) continue;
+      char text[200];
+      std::snprintf(text, sizeof text, "an overlap of %.3g between body %d and %s %d, deeper than the smallest body's "
+                    "bounding radius %.3g", deepest, c.a, is_wall(c.b) ? "wall" : "body",
+                    is_wall(c.b) ? wall_index(c.b) : c.b, r_min);
+      return text;
+    }
+  }
+  return "";
+}
+
+}  // namespace ratchet
