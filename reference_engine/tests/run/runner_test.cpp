@@ -149,8 +149,26 @@ TEST(RunWorld, TheSameFallWithASmallStepCompletes) {
     "container": {"type": "planes", "planes": [{"normal": [0, 0, 1], "point": [0, 0, 0]}]},
     "particles": {"bodies": [{"shape": "sphere", "radius": 0.5, "position": [0, 0, 5], "velocity": [0, 0, -30]}]}
   })"), "fall.json"));
-  EXPECT_NO_THROW(run_world(world, {}));
+  RunResult r;
+  EXPECT_NO_THROW(r = run_world(world, {}));
   EXPECT_GT(world.state().x[0].z(), 0.4);
+  EXPECT_TRUE(r.warnings.empty()) << r.warnings.dump();  // 0.03 per step, within the margin 0.05
+}
+
+// Ten times the step: 0.3 per step against the margin 0.05. The sphere still lands (its
+// overlap stays below its size), and the run says the step outran the margin.
+TEST(RunWorld, AStepThatOutrunsTheContactMarginIsAWarning) {
+  World world(build_scene(json::parse(R"({
+    "name": "fast", "time": {"dt": 0.01, "duration": 0.5},
+    "container": {"type": "planes", "planes": [{"normal": [0, 0, 1], "point": [0, 0, 0]}]},
+    "particles": {"bodies": [{"shape": "sphere", "radius": 0.5, "position": [0, 0, 5], "velocity": [0, 0, -30]}]}
+  })"), "fast.json"));
+  const RunResult r = run_world(world, {});
+  ASSERT_EQ(r.warnings.size(), 1u);
+  const std::string w = r.warnings[0].get<std::string>();
+  EXPECT_NE(w.find("a body moved farther than solver.contact_margin = 0.05 per step (at most 0.30"),
+            std::string::npos) << w;
+  EXPECT_NE(w.find("the first at step 1)"), std::string::npos) << w;
 }
 
 }  // namespace

@@ -3,6 +3,7 @@
 #include <sys/ioctl.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -27,6 +28,15 @@ std::string format_seconds(double s) {
   else if (s >= 60) std::snprintf(buf, sizeof buf, "%dm%02ds", static_cast<int>(s / 60), static_cast<int>(s) % 60);
   else std::snprintf(buf, sizeof buf, "%.0fs", s);
   return buf;
+}
+
+// The largest speed of a free body (centre of mass).
+double max_speed(const World& world) {
+  double v2 = 0.0;
+  const auto& bodies = world.scene().bodies;
+  for (std::size_t i = 0; i < bodies.size(); ++i)
+    if (!bodies[i].fixed) v2 = std::max(v2, world.state().v[i].squaredNorm());
+  return std::sqrt(v2);
 }
 
 }  // namespace
@@ -83,6 +93,10 @@ RunResult run_world(World& world, const RunOptions& options, const std::function
   // is reported at once, and the run's count and first such step go to run.json.
   std::int64_t first_capped = -1;
   double first_capped_t = 0.0, first_capped_residual = 0.0;
+  // A body that moves more than the contact margin in one step can meet a contact only
+  // after it has overlapped (docs/scene-format.md, solver.contact_margin): flagged.
+  std::int64_t first_fast = -1, fast_steps = 0;
+  double fastest_travel = 0.0;
   try {
     while (world.state().step < scene.steps) {
       world.step();
@@ -105,6 +119,12 @@ RunResult run_world(World& world, const RunOptions& options, const std::function
                      printed ? "\n" : "", scene.source.c_str(), static_cast<long long>(k), world.state().t,
                      scene.solver.max_iterations, world.stats().residual, scene.solver.tolerance);
         printed = false;
+      }
+      const double travel = max_speed(world) * scene.dt;
+      if (travel > scene.solver.contact_margin) {
+        if (first_fast < 0) first_fast = k;
+        ++fast_steps;
+        fastest_travel = std::max(fastest_travel, travel);
       }
       // Before the observers: the state that ends the settle stage starts the cycling.
       if (settle) settle->after_step(world);
@@ -163,6 +183,17 @@ RunResult run_world(World& world, const RunOptions& options, const std::function
                   scene.solver.max_iterations, static_cast<long long>(first_capped), first_capped_t,
                   first_capped_residual, scene.solver.tolerance);
     r.warnings.push_back(text);
+  }
+  if (first_fast >= 0) {
+    char text[320];
+    std::snprintf(text, sizeof text,
+                  "in %lld of %lld steps a body moved farther than solver.contact_margin = %.3g per step (at most "
+                  "%.3g, the first at step %lld): contacts may be found only after they overlap; a smaller "
+                  "time.dt or a larger margin avoids it",
+                  static_cast<long long>(fast_steps), static_cast<long long>(r.steps), scene.solver.contact_margin,
+                  fastest_travel, static_cast<long long>(first_fast));
+    r.warnings.push_back(text);
+    std::fprintf(stderr, "%s: warning: %s\n", scene.source.c_str(), text);
   }
   if (out)
     out->finish(world, {{"status", "completed"}, {"wall_seconds", r.wall_seconds}, {"summary", r.summary},
