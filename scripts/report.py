@@ -332,6 +332,17 @@ def _verdict(passed: int, failed: int, unresolved: int = 0) -> str:
     return f"PASSED: all {total} checks passed"
 
 
+def accuracy_figures(results_dir: Path) -> list[Path]:
+    """Stored accuracy-cost figures (results_dir/accuracy/*.png, docs/accuracy-cost.md)."""
+    folder = Path(results_dir) / "accuracy"
+    return sorted(folder.glob("*.png")) if folder.is_dir() else []
+
+
+ACCURACY_TEXT = ("What each accuracy knob changes in the observables against what it costs, "
+                 "as ensembles over seeds (scripts/compare-settings); the study, its commands "
+                 "and the tier defaults chosen from it: docs/accuracy-cost.md.")
+
+
 def headline_sources(current: dict | None, stored: Sequence[dict]) -> list[tuple[str, dict]]:
     return ([("This run", current)] if current else []) + [("Stored", r) for r in stored]
 
@@ -339,7 +350,7 @@ def headline_sources(current: dict | None, stored: Sequence[dict]) -> list[tuple
 def render_markdown(checks: pd.DataFrame, meta: dict[str, str] | None = None,
                     figures: Iterable[Path] = (), out_dir: str | os.PathLike = ".",
                     notes: Iterable[Path] = (), current: dict | None = None,
-                    stored: Sequence[dict] = ()) -> str:
+                    stored: Sequence[dict] = (), accuracy: Sequence[Path] = ()) -> str:
     """Markdown report; figures are linked relative to out_dir (where report.md goes)."""
     counts = totals(checks)
     columns = list(TABLE_COLUMNS) + ["reason"]
@@ -353,6 +364,12 @@ def render_markdown(checks: pd.DataFrame, meta: dict[str, str] | None = None,
     out += headline.render_markdown(headline_sources(current, stored))
     if not current and not stored:
         out += ["", "No stored result (validation/results/ is empty)."]
+    if accuracy:
+        out += ["", "## What accuracy costs", "", ACCURACY_TEXT]
+        for figure in accuracy:
+            link = os.path.relpath(figure, out_dir).replace(os.sep, "/")
+            caption = figure_caption(figure)
+            out += ["", f"![{_md_cell(caption)}]({_md_link(link)})", "", caption]
     out += ["", "## Checks of this run", "",
             "| " + " | ".join(columns) + " |",
             "|" + "|".join("---" for _ in columns) + "|"]
@@ -395,7 +412,8 @@ figure img { max-width: 100%; border: 1px solid #ddd; }
 
 def render_html(checks: pd.DataFrame, meta: dict[str, str] | None = None,
                 figures: Iterable[Path] = (), notes: Iterable[Path] = (),
-                current: dict | None = None, stored: Sequence[dict] = ()) -> str:
+                current: dict | None = None, stored: Sequence[dict] = (),
+                accuracy: Sequence[Path] = ()) -> str:
     """Self-contained HTML report (inline CSS, figures embedded as base64)."""
     esc = html.escape
     counts = totals(checks)
@@ -414,6 +432,13 @@ def render_html(checks: pd.DataFrame, meta: dict[str, str] | None = None,
     if not current:
         out.append(f"<p>{esc(NO_SWEEP_TEXT)}</p>")
     out += headline.render_html(headline_sources(current, stored))
+    if accuracy:
+        out += ["<h2>What accuracy costs</h2>", f"<p>{esc(ACCURACY_TEXT)}</p>"]
+        for figure in accuracy:
+            data = base64.b64encode(figure.read_bytes()).decode("ascii")
+            caption = esc(figure_caption(figure))
+            out.append(f'<figure><img src="data:image/png;base64,{data}" alt="{caption}">'
+                       f"<figcaption>{caption}</figcaption></figure>")
     out.append("<h2>Checks of this run</h2>")
     out.append("<table>")
     out.append("<thead><tr>" + "".join(f"<th>{esc(c)}</th>" for c in columns) + "</tr></thead>")
@@ -530,9 +555,11 @@ def main(argv: Sequence[str] | None = None) -> int:
 
     try:
         out_dir.mkdir(parents=True, exist_ok=True)
+        accuracy = accuracy_figures(Path(args.results))
         write_atomic(out_dir / "report.md", render_markdown(checks, meta, figures, out_dir, notes,
-                                                            current, stored))
-        write_atomic(out_dir / "report.html", render_html(checks, meta, figures, notes, current, stored))
+                                                            current, stored, accuracy))
+        write_atomic(out_dir / "report.html", render_html(checks, meta, figures, notes, current, stored,
+                                                          accuracy))
     except OSError as error:
         return no_report(f"cannot write the report in {out_dir}: {error}", 2)
 

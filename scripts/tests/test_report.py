@@ -343,3 +343,19 @@ def test_a_malformed_stored_record_names_the_file_and_field(folders, tmp_path, c
     err = capsys.readouterr().err
     assert f"{results / 'standard.json'}: field 'generated' must be a str" in err
     assert not (out / "report.md").exists()
+
+
+def test_the_report_shows_what_accuracy_costs(folders):
+    checks, out = folders
+    write_checks(checks, [MIXED[0]])
+    assert run(checks, out) == 0
+    markdown = (out / "report.md").read_text(encoding="utf-8")
+    figures = sorted((STORED / "accuracy").glob("*.png"))
+    assert figures, "validation/results/accuracy holds the stored accuracy-cost figures"
+    section = markdown.split("## What accuracy costs", 1)[1].split("## Checks of this run", 1)[0]
+    for figure in figures:
+        caption = figure.with_suffix(".txt").read_text(encoding="utf-8").strip()
+        assert caption in section
+        assert os.path.relpath(figure, out).replace(os.sep, "/") in section
+    page = (out / "report.html").read_text(encoding="utf-8")
+    assert page.count("data:image/png;base64,") >= len(figures)
