@@ -7,14 +7,22 @@ pass/fail table with totals, and writes OUT/report.md and OUT/report.html atomic
 with every PNG of OUT/figures embedded (relative links in Markdown, base64 in HTML)
 and every OUT/notes/*.md (plain-language findings of the validation scripts) appended.
 
+This module prepares the data (rows, totals, verdict, headline tables, captions, links,
+base64 figures, note blocks) as plain dicts and lists; the layout is in the Jinja2
+templates of scripts/templates/ (report.md.j2, report.html.j2 with report.css, and the
+headline tables headline.md.j2 / headline.html.j2 they include). A missing or broken
+template is an error with exit status 2, naming it.
+
 Usage: /usr/bin/python3 scripts/report.py --checks DIR --out DIR [--tier NAME] [--build-dir DIR]
 
 Exit status: 0 all checks passed; 1 a check failed or no check was found (empty
 or missing checks folder); 2 unreadable or malformed input, an unwritable OUT, or a
-usage error. When no report can be made, an earlier OUT/report.* is removed.
+usage error, or a missing or broken report template. When no report can be made, an
+earlier OUT/report.* is removed.
 
 Importable: load_checks, collect_metadata, find_figures, render_terminal,
-render_markdown, render_html, write_atomic, save_figure, main.
+render_markdown, render_html (and their markdown_context, html_context, render_template,
+template_environment), write_atomic, save_figure, main.
 """
 
 from __future__ import annotations
@@ -22,11 +30,11 @@ from __future__ import annotations
 import argparse
 import base64
 import datetime as _dt
-import html
 import json
 import math
 import os
 import sys
+import traceback
 import urllib.parse
 from pathlib import Path
 from typing import Iterable, Sequence
@@ -34,6 +42,7 @@ from typing import Iterable, Sequence
 # Plots are written to files only, never shown: no display needed.
 os.environ.setdefault("MPLBACKEND", "Agg")
 
+import jinja2  # noqa: E402
 import pandas as pd  # noqa: E402  (after the backend choice, as later plot code needs)
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))  # scripts/, for common
@@ -43,6 +52,10 @@ from common.gitinfo import git_commit  # noqa: E402
 from common.paths import REPO_ROOT, build_dir as default_build_dir  # noqa: E402
 from analysis import headline  # noqa: E402
 
+#: The report templates (Jinja2): report.md.j2, report.html.j2 and what they include.
+TEMPLATES_DIR = Path(__file__).resolve().parent / "templates"
+MARKDOWN_TEMPLATE = "report.md.j2"
+HTML_TEMPLATE = "report.html.j2"
 #: Stored results of the larger tiers (scripts/trends --store), shown in every report.
 RESULTS_DIR = REPO_ROOT / "validation" / "results"
 NO_SWEEP_TEXT = (
@@ -242,35 +255,34 @@ def _note_blocks(text: str) -> list[list[str]]:
     return blocks
 
 
-def note_html(text: str) -> str:
-    """The small Markdown subset of a note as HTML: '#' headings (as h3), '- ' lists,
-    '|' tables and paragraphs; all text escaped."""
-    esc = html.escape
+def parse_note(text: str) -> list[dict]:
+    """The small Markdown subset of a note as blocks for the HTML template: '#' headings
+    ({"kind": "heading", "text"}, shown as h3), '|' tables ({"kind": "table", "rows"},
+    the first row the header), '- ' lists ({"kind": "list", "entries"}) and paragraphs
+    ({"kind": "paragraph", "text"}). Plain text: the template escapes it."""
     out = []
     for block in _note_blocks(text):
         if block[0].startswith("#"):
-            out.append(f"<h3>{esc(block[0].lstrip('#').strip())}</h3>")
+            out.append({"kind": "heading", "text": block[0].lstrip("#").strip()})
             block = block[1:]
             if not block:
                 continue
         if all(line.startswith("|") for line in block):
             rows = [[c.strip() for c in line.strip("|").split("|")] for line in block
                     if not set(line.replace("|", "").strip()) <= set("-: ")]
-            out.append("<table>" + "".join(
-                "<tr>" + "".join(f"<{'th' if i == 0 else 'td'}>{esc(c)}</{'th' if i == 0 else 'td'}>" for c in row)
-                + "</tr>" for i, row in enumerate(rows)) + "</table>")
+            out.append({"kind": "table", "rows": rows})
         elif block[0].startswith("- "):
-            items, item = [], []
+            entries, entry = [], []
             for line in block:
-                if line.startswith("- ") and item:
-                    items.append(" ".join(item))
-                    item = []
-                item.append(line[2:] if line.startswith("- ") else line.strip())
-            items.append(" ".join(item))
-            out.append("<ul>" + "".join(f"<li>{esc(i)}</li>" for i in items) + "</ul>")
+                if line.startswith("- ") and entry:
+                    entries.append(" ".join(entry))
+                    entry = []
+                entry.append(line[2:] if line.startswith("- ") else line.strip())
+            entries.append(" ".join(entry))
+            out.append({"kind": "list", "entries": entries})
         else:
-            out.append(f"<p>{esc(' '.join(line.strip() for line in block))}</p>")
-    return "\n".join(out)
+            out.append({"kind": "paragraph", "text": " ".join(line.strip() for line in block)})
+    return out
 
 
 # --------------------------------------------------------------------------- rendering
@@ -310,8 +322,10 @@ def render_terminal(checks: pd.DataFrame, color: bool = False) -> str:
     return "\n".join(out) + "\n"
 
 
-def _md_cell(text: str) -> str:
-    return " ".join(text.split()).replace("\\", "\\\\").replace("|", "\\|") or " "
+def md_cell(text: str) -> str:
+    """One Markdown table cell: white space folded, backslashes and pipes escaped, an
+    empty cell a space (the templates' md_cell filter)."""
+    return " ".join(str(text).split()).replace("\\", "\\\\").replace("|", "\\|") or " "
 
 
 def _md_link(path: str) -> str:
@@ -341,10 +355,93 @@ def accuracy_figures(results_dir: Path) -> list[Path]:
 ACCURACY_TEXT = ("What each accuracy knob changes in the observables against what it costs, "
                  "as ensembles over seeds (scripts/compare-settings); the study, its commands "
                  "and the tier defaults chosen from it: docs/accuracy-cost.md.")
+NO_STORED_TEXT = "No stored result (validation/results/ is empty)."
 
 
 def headline_sources(current: dict | None, stored: Sequence[dict]) -> list[tuple[str, dict]]:
     return ([("This run", current)] if current else []) + [("Stored", r) for r in stored]
+
+
+def template_environment(folder: str | os.PathLike | None = None) -> jinja2.Environment:
+    """The Jinja2 environment of the report templates (default TEMPLATES_DIR): HTML
+    templates (*.html.j2) autoescaped, the Markdown ones not; an undefined variable is
+    an error; filter md_cell."""
+    environment = jinja2.Environment(
+        loader=jinja2.FileSystemLoader(str(folder if folder is not None else TEMPLATES_DIR)),
+        autoescape=jinja2.select_autoescape(["html", "html.j2"]),
+        undefined=jinja2.StrictUndefined, keep_trailing_newline=True, trim_blocks=True,
+        lstrip_blocks=True)
+    environment.filters["md_cell"] = md_cell
+    return environment
+
+
+def render_template(name: str, context: dict, folder: str | os.PathLike | None = None) -> str:
+    """One template of the report with the context. Raises jinja2.TemplateNotFound (an
+    OSError) naming a missing template, jinja2.UndefinedError for a missing variable."""
+    return template_environment(folder).get_template(name).render(context)
+
+
+def _template_frame(error: BaseException) -> str:
+    """'FILE, line N' of the innermost template frame of a render error (Jinja2 puts
+    the template's own lines into the traceback), else the templates folder."""
+    frames = [f for f in traceback.extract_tb(error.__traceback__) if f.filename.endswith(".j2")]
+    return f"{frames[-1].filename}, line {frames[-1].lineno}" if frames else str(TEMPLATES_DIR)
+
+
+def _context(checks: pd.DataFrame, meta: dict[str, str] | None, current: dict | None,
+             stored: Sequence[dict]) -> dict:
+    """What both reports show, as plain values."""
+    counts = totals(checks)
+    return {
+        "meta": dict(meta or {}),
+        "counts_text": _counts_text(*counts),
+        "total": sum(counts),
+        "failed": counts[1],
+        "verdict": _verdict(*counts),
+        "ran_sweep": bool(current),
+        "no_sweep_text": NO_SWEEP_TEXT,
+        "sections": headline.sections(headline_sources(current, stored)),
+        "no_stored_text": NO_STORED_TEXT,
+        "accuracy_text": ACCURACY_TEXT,
+        "columns": list(TABLE_COLUMNS) + ["reason"],
+        "rows": table_rows(checks),
+    }
+
+
+def _read_note(path: Path) -> str:
+    return path.read_text(encoding="utf-8", errors="replace")
+
+
+def markdown_context(checks: pd.DataFrame, meta: dict[str, str] | None = None,
+                     figures: Iterable[Path] = (), out_dir: str | os.PathLike = ".",
+                     notes: Iterable[Path] = (), current: dict | None = None,
+                     stored: Sequence[dict] = (), accuracy: Sequence[Path] = ()) -> dict:
+    """The values of MARKDOWN_TEMPLATE; figures linked relative to out_dir."""
+
+    def linked(figure: Path) -> dict:
+        link = os.path.relpath(figure, out_dir).replace(os.sep, "/")
+        return {"caption": figure_caption(figure), "link": _md_link(link)}
+
+    return {**_context(checks, meta, current, stored),
+            "accuracy": [linked(f) for f in accuracy],
+            "figures": [linked(f) for f in figures],
+            "notes": [_read_note(n).strip() for n in notes]}
+
+
+def html_context(checks: pd.DataFrame, meta: dict[str, str] | None = None,
+                 figures: Iterable[Path] = (), notes: Iterable[Path] = (),
+                 current: dict | None = None, stored: Sequence[dict] = (),
+                 accuracy: Sequence[Path] = ()) -> dict:
+    """The values of HTML_TEMPLATE; figures as base64."""
+
+    def embedded(figure: Path) -> dict:
+        return {"caption": figure_caption(figure),
+                "data": base64.b64encode(figure.read_bytes()).decode("ascii")}
+
+    return {**_context(checks, meta, current, stored),
+            "accuracy": [embedded(f) for f in accuracy],
+            "figures": [embedded(f) for f in figures],
+            "notes": [parse_note(_read_note(n)) for n in notes]}
 
 
 def render_markdown(checks: pd.DataFrame, meta: dict[str, str] | None = None,
@@ -352,62 +449,8 @@ def render_markdown(checks: pd.DataFrame, meta: dict[str, str] | None = None,
                     notes: Iterable[Path] = (), current: dict | None = None,
                     stored: Sequence[dict] = (), accuracy: Sequence[Path] = ()) -> str:
     """Markdown report; figures are linked relative to out_dir (where report.md goes)."""
-    counts = totals(checks)
-    columns = list(TABLE_COLUMNS) + ["reason"]
-    out = ["# Validation report", ""]
-    for key, value in (meta or {}).items():
-        out.append(f"- {key}: {value}")
-    out.append(f"- Checks: {_counts_text(*counts)}, {sum(counts)} total")
-    out += ["", f"**{_verdict(*counts)}**", "", "## The paper's headline trends"]
-    if not current:
-        out += ["", NO_SWEEP_TEXT]
-    out += headline.render_markdown(headline_sources(current, stored))
-    if not current and not stored:
-        out += ["", "No stored result (validation/results/ is empty)."]
-    if accuracy:
-        out += ["", "## What accuracy costs", "", ACCURACY_TEXT]
-        for figure in accuracy:
-            link = os.path.relpath(figure, out_dir).replace(os.sep, "/")
-            caption = figure_caption(figure)
-            out += ["", f"![{_md_cell(caption)}]({_md_link(link)})", "", caption]
-    out += ["", "## Checks of this run", "",
-            "| " + " | ".join(columns) + " |",
-            "|" + "|".join("---" for _ in columns) + "|"]
-    for r in table_rows(checks):
-        cells = dict(r)
-        cells["result"] = {"PASS": "PASS", NOT_RESOLVED: f"*{NOT_RESOLVED}*"}.get(r["result"], "**FAIL**")
-        out.append("| " + " | ".join(_md_cell(cells[c]) for c in columns) + " |")
-    figures = list(figures)
-    if figures:
-        out += ["", "## Figures"]
-        for figure in figures:
-            link = os.path.relpath(figure, out_dir).replace(os.sep, "/")
-            caption = figure_caption(figure)
-            out += ["", f"### {caption}", "", f"![{_md_cell(caption)}]({_md_link(link)})"]
-    notes = list(notes)
-    if notes:
-        out += ["", "## Notes"]
-        for note in notes:
-            out += ["", note.read_text(encoding="utf-8", errors="replace").strip()]
-    return "\n".join(out) + "\n"
-
-
-_CSS = """
-body { font-family: system-ui, sans-serif; margin: 2em; color: #222; }
-table { border-collapse: collapse; font-size: 0.92em; }
-th, td { border: 1px solid #ccc; padding: 0.3em 0.6em; text-align: left; vertical-align: top; }
-th { background: #eee; }
-td.num { font-family: monospace; }
-tr.pass td.result { background: #d8f0d8; color: #185c18; font-weight: bold; }
-tr.fail td { background: #fbe3e3; }
-tr.unresolved td.result { background: #fff1c2; color: #6b5200; font-weight: bold; }
-tr.fail td.result { background: #f3b7b7; color: #8a1010; font-weight: bold; }
-.verdict { padding: 0.5em 1em; display: inline-block; font-weight: bold; border-radius: 4px; }
-.verdict.pass { background: #d8f0d8; color: #185c18; }
-.verdict.fail { background: #f3b7b7; color: #8a1010; }
-figure { margin: 1.5em 0; }
-figure img { max-width: 100%; border: 1px solid #ddd; }
-"""
+    return render_template(MARKDOWN_TEMPLATE, markdown_context(
+        checks, meta, figures, out_dir, notes, current, stored, accuracy))
 
 
 def render_html(checks: pd.DataFrame, meta: dict[str, str] | None = None,
@@ -415,58 +458,8 @@ def render_html(checks: pd.DataFrame, meta: dict[str, str] | None = None,
                 current: dict | None = None, stored: Sequence[dict] = (),
                 accuracy: Sequence[Path] = ()) -> str:
     """Self-contained HTML report (inline CSS, figures embedded as base64)."""
-    esc = html.escape
-    counts = totals(checks)
-    passed, failed, unresolved = counts
-    columns = list(TABLE_COLUMNS) + ["reason"]
-    out = ["<!DOCTYPE html>", '<html lang="en">', "<head>", '<meta charset="utf-8">',
-           "<title>Validation report</title>", f"<style>{_CSS}</style>", "</head>", "<body>",
-           "<h1>Validation report</h1>", "<ul>"]
-    for key, value in (meta or {}).items():
-        out.append(f"<li>{esc(key)}: {esc(value)}</li>")
-    out.append(f"<li>Checks: {esc(_counts_text(*counts))}, {sum(counts)} total</li>")
-    out.append("</ul>")
-    verdict_class = "fail" if failed else "pass"
-    out.append(f'<p class="verdict {verdict_class}">{esc(_verdict(*counts))}</p>')
-    out.append("<h2>The paper's headline trends</h2>")
-    if not current:
-        out.append(f"<p>{esc(NO_SWEEP_TEXT)}</p>")
-    out += headline.render_html(headline_sources(current, stored))
-    if accuracy:
-        out += ["<h2>What accuracy costs</h2>", f"<p>{esc(ACCURACY_TEXT)}</p>"]
-        for figure in accuracy:
-            data = base64.b64encode(figure.read_bytes()).decode("ascii")
-            caption = esc(figure_caption(figure))
-            out.append(f'<figure><img src="data:image/png;base64,{data}" alt="{caption}">'
-                       f"<figcaption>{caption}</figcaption></figure>")
-    out.append("<h2>Checks of this run</h2>")
-    out.append("<table>")
-    out.append("<thead><tr>" + "".join(f"<th>{esc(c)}</th>" for c in columns) + "</tr></thead>")
-    out.append("<tbody>")
-    for r in table_rows(checks):
-        row_class = {"PASS": "pass", NOT_RESOLVED: "unresolved"}.get(r["result"], "fail")
-        cells = []
-        for c in columns:
-            css = {"measured": "num", "expected": "num", "tolerance": "num", "result": "result"}.get(c)
-            attr = f' class="{css}"' if css else ""
-            cells.append(f"<td{attr}>{esc(r[c])}</td>")
-        out.append(f'<tr class="{row_class}">' + "".join(cells) + "</tr>")
-    out += ["</tbody>", "</table>"]
-    figures = list(figures)
-    if figures:
-        out.append("<h2>Figures</h2>")
-        for figure in figures:
-            data = base64.b64encode(figure.read_bytes()).decode("ascii")
-            caption = esc(figure_caption(figure))
-            out.append(f'<figure><img src="data:image/png;base64,{data}" alt="{caption}">'
-                       f"<figcaption>{caption}</figcaption></figure>")
-    notes = list(notes)
-    if notes:
-        out.append("<h2>Notes</h2>")
-        for note in notes:
-            out.append(note_html(note.read_text(encoding="utf-8", errors="replace")))
-    out += ["</body>", "</html>"]
-    return "\n".join(out) + "\n"
+    return render_template(HTML_TEMPLATE, html_context(
+        checks, meta, figures, notes, current, stored, accuracy))
 
 
 # --------------------------------------------------------------------------- output
@@ -553,13 +546,23 @@ def main(argv: Sequence[str] | None = None) -> int:
     except (OSError, ValueError, KeyError) as problem:
         return no_report(f"cannot read {out_dir / 'trends.json'}: {problem}", 2)
 
+    accuracy = accuracy_figures(Path(args.results))
+    try:  # both rendered before either is written
+        markdown = render_markdown(checks, meta, figures, out_dir, notes, current, stored, accuracy)
+        page = render_html(checks, meta, figures, notes, current, stored, accuracy)
+    except jinja2.TemplateNotFound as missing:  # an OSError: before the OSError below
+        return no_report(f"report template not found: {Path(TEMPLATES_DIR) / missing.name}", 2)
+    except jinja2.TemplateSyntaxError as problem:
+        return no_report(f"report template {problem.filename or problem.name}, line {problem.lineno}: "
+                         f"{problem.message}", 2)
+    except jinja2.TemplateError as problem:
+        return no_report(f"report template {_template_frame(problem)}: {problem}", 2)
+    except OSError as error:
+        return no_report(f"cannot read a figure or note of {out_dir}: {error}", 2)
     try:
         out_dir.mkdir(parents=True, exist_ok=True)
-        accuracy = accuracy_figures(Path(args.results))
-        write_atomic(out_dir / "report.md", render_markdown(checks, meta, figures, out_dir, notes,
-                                                            current, stored, accuracy))
-        write_atomic(out_dir / "report.html", render_html(checks, meta, figures, notes, current, stored,
-                                                          accuracy))
+        write_atomic(out_dir / "report.md", markdown)
+        write_atomic(out_dir / "report.html", page)
     except OSError as error:
         return no_report(f"cannot write the report in {out_dir}: {error}", 2)
 

@@ -1,14 +1,16 @@
 """The paper's headline trends in a few rows: from a trends.json document, stored as
-a dated record (validation/results/*.json), and rendered at the top of the
-validation report (scripts/report.py). Format: docs/trends.md, "Stored results".
+a dated record (validation/results/*.json), and shown at the top of the validation
+report (scripts/report.py). Format: docs/trends.md, "Stored results".
 
 A record holds only what the analysis measured and decided (the checks' statuses come
-from scripts/analysis/trends.py); nothing here re-judges a value.
+from scripts/analysis/trends.py); nothing here re-judges a value. This module prepares
+the tables as display strings (sections()); the Jinja2 templates
+scripts/templates/headline.md.j2 and headline.html.j2, included by the report's
+templates, lay them out.
 """
 
 from __future__ import annotations
 
-import html
 import json
 import math
 from pathlib import Path
@@ -143,34 +145,9 @@ def _title(record: dict, source: str) -> str:
             f"{record['engine_commit']}")
 
 
-def render_markdown(records: list[tuple[str, dict]]) -> list[str]:
-    out = []
-    for source, record in records:
-        out += ["", f"### {_title(record, source)}", "", f"Scale: {record['scale']}. Command: `{record['command']}`",
-                "", "| paper's statement | check | measured | quadratic fit of the means | result |",
-                "|---|---|---|---|---|"]
-        for r in table_rows(record):
-            result = r["result"] if r["result"] == "PASS" else f"**{r['result']}**"
-            if r["why"]:
-                result += f": {r['why']}"
-            cells = [r["statement"], r["check"], r["measured"], r["fit"], result]
-            out.append("| " + " | ".join(" ".join(c.split()).replace("|", "\\|") or " " for c in cells) + " |")
-    return out
-
-
-def render_html(records: list[tuple[str, dict]]) -> list[str]:
-    esc = html.escape
-    out = []
-    for source, record in records:
-        out += [f"<h3>{esc(_title(record, source))}</h3>",
-                f"<p>Scale: {esc(record['scale'])}. Command: <code>{esc(record['command'])}</code></p>",
-                "<table><thead><tr><th>paper's statement</th><th>check</th><th>measured</th>"
-                "<th>quadratic fit of the means</th><th>result</th></tr></thead><tbody>"]
-        for r in table_rows(record):
-            css = {"PASS": "pass", "FAIL": "fail", "NOT RESOLVED": "unresolved"}.get(r["result"], "")
-            result = r["result"] + (f": {r['why']}" if r["why"] else "")
-            out.append(f'<tr class="{css}"><td>{esc(r["statement"])}</td><td>{esc(r["check"])}</td>'
-                       f'<td class="num">{esc(r["measured"])}</td><td class="num">{esc(r["fit"])}</td>'
-                       f'<td class="result">{esc(result)}</td></tr>')
-        out.append("</tbody></table>")
-    return out
+def sections(records: list[tuple[str, dict]]) -> list[dict]:
+    """One headline table per (source, record), e.g. ("Stored", record): its title,
+    scale, command and rows (table_rows), for scripts/templates/headline.*.j2."""
+    return [{"title": _title(record, source), "scale": record["scale"], "command": record["command"],
+             "rows": table_rows(record)}
+            for source, record in records]

@@ -10,10 +10,12 @@ import importlib.util
 import json
 import math
 import os
+import shutil
 import subprocess
 import sys
 from pathlib import Path
 
+import jinja2
 import pytest
 
 SCRIPT = Path(__file__).resolve().parent.parent / "report.py"
@@ -292,6 +294,76 @@ def test_command_line_with_debian_python(folders):
     assert done.returncode == 1, done.stderr
     assert done.stdout.splitlines()[-1] == "checks: 2 passed, 1 failed"
     assert "\x1b[" not in done.stdout
+
+
+
+# --------------------------------------------------------------------------- templates
+
+
+def test_the_templates_fail_on_a_missing_variable(folders):
+    checks, _ = folders
+    write_checks(checks, MIXED)
+    frame = report.load_checks(checks)
+    assert report.template_environment().undefined is jinja2.StrictUndefined
+    for name, make_context in ((report.MARKDOWN_TEMPLATE, report.markdown_context),
+                               (report.HTML_TEMPLATE, report.html_context)):
+        assert "wall_pressure" in report.render_template(name, make_context(frame))  # complete
+        for key in ("verdict", "rows", "sections", "meta"):
+            context = {k: v for k, v in make_context(frame).items() if k != key}
+            with pytest.raises(jinja2.UndefinedError, match=f"'{key}' is undefined"):
+                report.render_template(name, context)
+        context = make_context(frame)
+        del context["rows"][0]["reason"]  # a field of one row
+        with pytest.raises(jinja2.UndefinedError, match="reason"):
+            report.render_template(name, context)
+
+
+def _templates_copy(tmp_path, monkeypatch) -> Path:
+    """A copy of scripts/templates that report.py then uses."""
+    templates = tmp_path / "templates"
+    shutil.copytree(report.TEMPLATES_DIR, templates)
+    monkeypatch.setattr(report, "TEMPLATES_DIR", templates)
+    return templates
+
+
+@pytest.mark.parametrize("name", ["report.md.j2", "report.html.j2", "report.css", "headline.md.j2",
+                                  "headline.html.j2"])
+def test_a_missing_template_is_named_and_no_report_is_written(folders, tmp_path, monkeypatch, capsys,
+                                                              name):
+    checks, out = folders
+    write_checks(checks, MIXED[:1])
+    assert run(checks, out) == 0  # an earlier report, which must not stay
+    (_templates_copy(tmp_path, monkeypatch) / name).unlink()
+    capsys.readouterr()
+    assert run(checks, out) == 2
+    err = capsys.readouterr().err
+    assert f"report template not found: {tmp_path / 'templates' / name}" in err
+    assert "no report written" in err
+    assert not (out / "report.md").exists() and not (out / "report.html").exists()
+
+
+@pytest.mark.parametrize("name, text, message", [
+    ("headline.html.j2", "{{ nope }}\n", "headline.html.j2, line 1: 'nope' is undefined"),
+    ("report.md.j2", "# Report\n{% if %}\n", "report.md.j2, line 2: Expected an expression"),
+])
+def test_a_broken_template_is_named(folders, tmp_path, monkeypatch, capsys, name, text, message):
+    checks, out = folders
+    write_checks(checks, MIXED[:1])
+    (_templates_copy(tmp_path, monkeypatch) / name).write_text(text, encoding="utf-8")
+    assert run(checks, out) == 2
+    assert message in capsys.readouterr().err
+    assert not (out / "report.md").exists() and not (out / "report.html").exists()
+
+
+def test_the_html_autoescapes_a_script_in_a_check(folders):
+    checks, out = folders
+    script = "<script>alert('x')</script>"
+    write_checks(checks, [check(script, "check " + script, 1.0, script, script, script, False)])
+    assert run(checks, out, "--tier", script) == 1
+    page = (out / "report.html").read_text(encoding="utf-8")
+    assert "<script" not in page.lower()
+    # case, check, expected, tolerance, reason and the tier of the header
+    assert page.count("&lt;script&gt;alert(&#39;x&#39;)&lt;/script&gt;") == 6
 
 
 # --------------------------------------------------------------------------- headline
