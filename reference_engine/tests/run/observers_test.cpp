@@ -79,9 +79,10 @@ TEST(RunObservers, TwoCycleChainWritesEveryObservable) {
   EXPECT_GT(lines_of(d / "displacement_0_1.csv").size(), 1u);
   EXPECT_GT(lines_of(d / "displacement_0_2.csv").size(), 1u);
   EXPECT_EQ(lines_of(d / "wall_profile.csv").size(), 1u + 2u * 4u);  // header + 2 cycles x 4 bins
-  for (const char* f : {"particles_cycle1_end_heating.vtk", "contacts_cycle1_end_cooling.vtk"})
+  for (const char* f : {"particles_cycle1_end_heating.vtp", "contacts_cycle1_end_cooling.vtp",
+                        "container_cycle1_end_cooling.vtp", "particles.pvd"})
     EXPECT_TRUE(fs::exists(d / "vtk" / f)) << f;
-  EXPECT_FALSE(fs::exists(d / "vtk" / "particles_cycle0_end_heating.vtk"));  // only the cycles asked for
+  EXPECT_FALSE(fs::exists(d / "vtk" / "particles_cycle0_end_heating.vtp"));  // only the cycles asked for
   fs::remove_all(d);
 }
 

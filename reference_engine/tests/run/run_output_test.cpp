@@ -43,9 +43,10 @@ TEST(RunOutput, WritesHeaderRowsAndRunJson) {
   fs::create_directories(d);
   std::ofstream(d / "run.json") << "{\"status\": \"completed\"}\n";  // a stale one
   World world(one_sphere());
+  remove_previous_outputs(d.string());  // as the runner does first
+  EXPECT_FALSE(fs::exists(d / "run.json"));  // no longer looks complete
   {
     RunOutput out(d.string(), {"extra_a", "extra_b"});
-    EXPECT_FALSE(fs::exists(d / "run.json"));  // no longer looks complete
     out.write_timeseries_row(world, {1.5, 2.5});
     out.write_bodies(world);
     world.step();
@@ -82,12 +83,13 @@ TEST(RunOutput, ClearsAnEarlierRunsOutputsAndNothingElse) {
   fs::create_directories(d / "vtk");
   const std::vector<std::string> stale = {"run.json", "cycles.csv", "wall_profile.csv", "displacement_0_10.csv",
                                           "timeseries.csv.partial", "vtk/particles_cycle1_end_heating.vtk",
-                                          "vtk/contacts_cycle1_end_cooling.vtk"};
+                                          "vtk/contacts_cycle1_end_cooling.vtp", "vtk/particles.pvd"};
   const std::vector<std::string> kept = {"notes.txt", "packing.state", "cycles.csv.bak", "vtk/mine.vtk",
                                          "displacement_.csv"};
   for (const auto& name : stale) std::ofstream(d / name) << "old\n";
   for (const auto& name : kept) std::ofstream(d / name) << "mine\n";
   World world(one_sphere());
+  EXPECT_EQ(remove_previous_outputs(d.string()).size(), stale.size());
   {
     RunOutput out(d.string(), {});
     for (const auto& name : stale) {

@@ -154,6 +154,45 @@ TEST(Scene, MissingRequiredFieldsAreNamed) {
   EXPECT_THAT(error_of(j), AllOf(HasSubstr("particles.bodies[0].radius"), HasSubstr("required")));
 }
 
+// outputs.vtk_every: steps between VTK snapshots in any scene, 0 (the default) for none;
+// outputs.vtk_cycles names thermal cycles, so a scene without any is refused rather than
+// silently writing nothing.
+TEST(Scene, VtkOutputsAreChecked) {
+  json j = minimal_scene();
+  EXPECT_EQ(build_scene(j, "scene.json").outputs.vtk_every, 0);
+  j["outputs"] = {{"vtk_every", 25}};
+  EXPECT_EQ(build_scene(j, "scene.json").outputs.vtk_every, 25);
+  for (const char* bad : {"-1", "2.5", "\"10\"", "true"}) {
+    j["outputs"] = {{"vtk_every", json::parse(bad)}};
+    EXPECT_THAT(error_of(j), AllOf(HasSubstr("scene.json: field 'outputs.vtk_every'"), HasSubstr("an integer in [0,")))
+        << bad;
+  }
+  j["outputs"] = {{"vtk_cycles", {0}}};
+  EXPECT_THAT(error_of(j), AllOf(HasSubstr("scene.json: field 'outputs.vtk_cycles'"),
+                                 HasSubstr("without thermal cycles"), HasSubstr("outputs.vtk_every"),
+                                 HasSubstr("got [0]")));
+  j["outputs"] = {{"vtk_cycles", json::array()}};  // asks for nothing: fine
+  EXPECT_TRUE(build_scene(j, "scene.json").outputs.vtk_cycles.empty());
+  j["outputs"] = {{"vtk_cycles", {1}}};
+  j["thermal"] = {{"heat_time", 1.0}, {"cycles", 0}};  // a protocol without cycles
+  EXPECT_THAT(error_of(j), HasSubstr("field 'outputs.vtk_cycles'"));
+  j["thermal"]["cycles"] = 2;
+  EXPECT_EQ(build_scene(j, "scene.json").outputs.vtk_cycles, std::vector<int>{1});
+  // Through --set: the message names the option.
+  const auto dir = std::filesystem::temp_directory_path() / "ratchet_scene_vtk_cycles";
+  std::filesystem::create_directories(dir);
+  const auto file = (dir / "scene.json").string();
+  std::ofstream(file) << minimal_scene().dump();
+  try {
+    load_scene(file, {"outputs.vtk_cycles=[0]"});
+    ADD_FAILURE() << "vtk_cycles without thermal cycles was accepted";
+  } catch (const SceneError& e) {
+    EXPECT_THAT(std::string(e.what()), AllOf(HasSubstr("--set outputs.vtk_cycles=[0]"),
+                                             HasSubstr("field 'outputs.vtk_cycles'")));
+  }
+  std::filesystem::remove_all(dir);
+}
+
 TEST(Scene, SettleSectionIsCheckedStrictly) {
   json j = minimal_scene();
   j["thermal"] = {{"start_time", 0.5}, {"heat_time", 1.0}, {"cycles", 2}};

@@ -5,49 +5,107 @@
 #include <ostream>
 #include <stdexcept>
 
+#include "ratchet/core/contact_side.hpp"
 #include "ratchet/io/atomic_file.hpp"
 
 namespace ratchet {
 namespace {
 
 // 12 significant digits: far below what a picture resolves, and a third smaller than
-// round-trip precision (17); the output is still deterministic.
+// round-trip precision (17); the output is still deterministic. The time is written
+// to round trip, as in the CSVs, so that it matches their t column exactly.
 constexpr int kDigits = 12;
-
-// Legacy header: version line, one-line title (at most 255 characters), ASCII, dataset.
-void header(std::ostream& out, const std::string& title) {
-  std::string t = title.substr(0, 255);
-  for (char& c : t)
-    if (c == '\n' || c == '\r') c = ' ';
-  out << "# vtk DataFile Version 3.0\n" << (t.empty() ? "ratchet" : t) << "\nASCII\nDATASET POLYDATA\n";
-}
-
-void prepare(std::ostream& out) {
-  out.imbue(std::locale::classic());  // '.' decimal point whatever the global locale
-  out.precision(kDigits);
-}
-
-void put(std::ostream& out, const Vec3& p) { out << p.x() << ' ' << p.y() << ' ' << p.z() << '\n'; }
+constexpr int kTimeDigits = 17;
 
 void check_finite(bool ok, const std::string& what) {
   if (!ok) throw std::invalid_argument(what + " is not finite");
 }
 
+void put(std::ostream& out, const Vec3& p) { out << p.x() << ' ' << p.y() << ' ' << p.z(); }
+
+// Connectivity and offsets of one cell block (Verts or Polys), as VTK stores them.
+struct CellBlock {
+  std::vector<std::int64_t> connectivity, offsets;
+  template <class Indices>
+  void add(const Indices& indices, std::int64_t first) {
+    for (const auto k : indices) connectivity.push_back(first + static_cast<std::int64_t>(k));
+    offsets.push_back(static_cast<std::int64_t>(connectivity.size()));
+  }
+  std::size_t size() const { return offsets.size(); }
+};
+
+// One <DataArray> with `count` tuples; each(i) writes tuple i (components separated by
+// spaces), one tuple per line. Field data (not tied to points or cells) must state its
+// tuple count.
+template <class Each>
+void data_array(std::ostream& out, const char* type, const char* name, int components, std::size_t count,
+                Each&& each, bool field_data = false) {
+  out << "<DataArray type=\"" << type << "\" Name=\"" << name << '"';
+  if (components > 1) out << " NumberOfComponents=\"" << components << '"';
+  if (field_data) out << " NumberOfTuples=\"" << count << '"';
+  out << " format=\"ascii\">\n";
+  for (std::size_t i = 0; i < count; ++i) {
+    each(i);
+    out << '\n';
+  }
+  out << "</DataArray>\n";
+}
+
+// The file's head up to the opening <Piece>: field data TimeValue and step.
+void begin(std::ostream& out, const VtkTime& time, std::size_t points, std::size_t verts, std::size_t polys) {
+  out.imbue(std::locale::classic());  // '.' decimal point whatever the global locale
+  out << "<?xml version=\"1.0\"?>\n"
+         "<VTKFile type=\"PolyData\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n"
+         "<PolyData>\n<FieldData>\n";
+  out.precision(kTimeDigits);
+  data_array(out, "Float64", "TimeValue", 1, 1, [&](std::size_t) { out << time.t; }, true);
+  data_array(out, "Int64", "step", 1, 1, [&](std::size_t) { out << time.step; }, true);
+  out.precision(kDigits);
+  out << "</FieldData>\n<Piece NumberOfPoints=\"" << points << "\" NumberOfVerts=\"" << verts
+      << "\" NumberOfLines=\"0\" NumberOfStrips=\"0\" NumberOfPolys=\"" << polys << "\">\n";
+}
+
+void points(std::ostream& out, const std::vector<Vec3>& p) {
+  out << "<Points>\n";
+  data_array(out, "Float64", "Points", 3, p.size(), [&](std::size_t i) { put(out, p[i]); });
+  out << "</Points>\n";
+}
+
+// A cell block; left out when empty (the reader takes a missing block as no cells).
+void cells(std::ostream& out, const char* tag, const CellBlock& c) {
+  if (c.size() == 0) return;
+  out << '<' << tag << ">\n";
+  out << "<DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">\n";
+  for (std::size_t i = 0; i < c.connectivity.size(); ++i) out << c.connectivity[i] << (i % 16 == 15 ? '\n' : ' ');
+  out << "\n</DataArray>\n";
+  data_array(out, "Int64", "offsets", 1, c.offsets.size(), [&](std::size_t i) { out << c.offsets[i]; });
+  out << "</" << tag << ">\n";
+}
+
+void end(std::ostream& out) { out << "</Piece>\n</PolyData>\n</VTKFile>\n"; }
+
 }  // namespace
 
-void write_particles_vtk(const std::string& path, const std::vector<VtkBody>& bodies, const std::string& title) {
+void write_particles_vtp(const std::string& path, const std::vector<VtkBody>& bodies, const VtkTime& time) {
+  check_finite(std::isfinite(time.t), "write_particles_vtp: time");
   // Validate everything first so that a bad body leaves no file behind.
-  std::size_t points = 0, spheres = 0, polygons = 0, polygon_size = 0;
+  std::vector<Vec3> pts;
+  std::vector<const VtkBody*> point_body;      // the body of each point
+  std::vector<const VtkBody*> cell_body;       // the body of each cell: Verts first, then Polys
+  CellBlock verts, polys;
   for (std::size_t i = 0; i < bodies.size(); ++i) {
     const VtkBody& b = bodies[i];
-    const std::string what = "write_particles_vtk: body " + std::to_string(i) + " (id " + std::to_string(b.id) + ")";
+    const std::string what = "write_particles_vtp: body " + std::to_string(i) + " (id " + std::to_string(b.id) + ")";
     check_finite(b.velocity.allFinite(), what + " velocity");
+    check_finite(b.angular_velocity.allFinite(), what + " angular velocity");
+    check_finite(std::isfinite(b.scale), what + " scale");
     for (const Vec3& v : b.vertices) check_finite(v.allFinite(), what + " vertex");
+    const auto first = static_cast<std::int64_t>(pts.size());
     if (b.sphere_radius > 0.0) {
       if (b.vertices.size() != 1 || !b.faces.empty())
         throw std::invalid_argument(what + ": a sphere needs exactly one vertex (its centre) and no faces");
       check_finite(std::isfinite(b.sphere_radius), what + " radius");
-      ++spheres;
+      verts.add(std::vector<int>{0}, first);
     } else {
       if (b.faces.empty()) throw std::invalid_argument(what + ": a polyhedron needs faces");
       for (const auto& f : b.faces) {
@@ -55,94 +113,109 @@ void write_particles_vtk(const std::string& path, const std::vector<VtkBody>& bo
         for (int k : f)
           if (k < 0 || static_cast<std::size_t>(k) >= b.vertices.size())
             throw std::invalid_argument(what + ": face index " + std::to_string(k) + " out of range");
-        ++polygons;
-        polygon_size += 1 + f.size();
+        polys.add(f, first);
       }
     }
-    points += b.vertices.size();
+    pts.insert(pts.end(), b.vertices.begin(), b.vertices.end());
+    point_body.insert(point_body.end(), b.vertices.size(), &b);
   }
+  for (const VtkBody& b : bodies)
+    if (b.sphere_radius > 0.0) cell_body.push_back(&b);
+  for (const VtkBody& b : bodies)
+    if (!(b.sphere_radius > 0.0)) cell_body.insert(cell_body.end(), b.faces.size(), &b);
 
   AtomicFile file(path);
   std::ostream& out = file.stream();
-  prepare(out);
-  header(out, title);
-  out << "POINTS " << points << " double\n";
-  for (const VtkBody& b : bodies)
-    for (const Vec3& v : b.vertices) put(out, v);
-
-  // Each body's points start at its offset in the POINTS list.
-  std::vector<std::size_t> offset(bodies.size());
-  for (std::size_t i = 0, o = 0; i < bodies.size(); o += bodies[i].vertices.size(), ++i) offset[i] = o;
-  if (spheres > 0) {
-    out << "VERTICES " << spheres << ' ' << 2 * spheres << '\n';
-    for (std::size_t i = 0; i < bodies.size(); ++i)
-      if (bodies[i].sphere_radius > 0.0) out << "1 " << offset[i] << '\n';
-  }
-  if (polygons > 0) {
-    out << "POLYGONS " << polygons << ' ' << polygon_size << '\n';
-    for (std::size_t i = 0; i < bodies.size(); ++i) {
-      if (bodies[i].sphere_radius > 0.0) continue;
-      for (const auto& f : bodies[i].faces) {
-        out << f.size();
-        for (int k : f) out << ' ' << offset[i] + static_cast<std::size_t>(k);
-        out << '\n';
-      }
-    }
-  }
-
-  // Cell data in cell order: all VERTICES cells, then all POLYGONS cells.
-  const std::size_t cells = spheres + polygons;
-  if (cells > 0) {
-    auto for_each_cell_body = [&](auto&& emit) {
-      for (const VtkBody& b : bodies)
-        if (b.sphere_radius > 0.0) emit(b);
-      for (const VtkBody& b : bodies)
-        if (!(b.sphere_radius > 0.0))
-          for (std::size_t k = 0; k < b.faces.size(); ++k) emit(b);
-    };
-    out << "CELL_DATA " << cells << "\nSCALARS body_id int 1\nLOOKUP_TABLE default\n";
-    for_each_cell_body([&](const VtkBody& b) { out << b.id << '\n'; });
-    out << "VECTORS velocity double\n";
-    for_each_cell_body([&](const VtkBody& b) { put(out, b.velocity); });
-  }
-  if (points > 0) {
-    out << "POINT_DATA " << points << "\nSCALARS radius double 1\nLOOKUP_TABLE default\n";
-    for (const VtkBody& b : bodies)
-      for (std::size_t k = 0; k < b.vertices.size(); ++k) out << (b.sphere_radius > 0.0 ? b.sphere_radius : 0.0) << '\n';
-  }
+  begin(out, time, pts.size(), verts.size(), polys.size());
+  auto body_arrays = [&](const std::vector<const VtkBody*>& of) {
+    const std::size_t n = of.size();
+    data_array(out, "Int32", "body_id", 1, n, [&](std::size_t i) { out << of[i]->id; });
+    data_array(out, "Float64", "velocity", 3, n, [&](std::size_t i) { put(out, of[i]->velocity); });
+    data_array(out, "Float64", "angular_velocity", 3, n, [&](std::size_t i) { put(out, of[i]->angular_velocity); });
+    data_array(out, "Float64", "scale", 1, n, [&](std::size_t i) { out << of[i]->scale; });
+  };
+  out << "<PointData>\n";
+  body_arrays(point_body);
+  data_array(out, "Float64", "radius", 1, pts.size(), [&](std::size_t i) {
+    out << (point_body[i]->sphere_radius > 0.0 ? point_body[i]->sphere_radius : 0.0);
+  });
+  out << "</PointData>\n<CellData>\n";
+  body_arrays(cell_body);
+  out << "</CellData>\n";
+  points(out, pts);
+  cells(out, "Verts", verts);
+  cells(out, "Polys", polys);
+  end(out);
   file.commit();
 }
 
-void write_contact_network_vtk(const std::string& path, const std::vector<VtkContact>& contacts,
-                               const std::string& title) {
+void write_contacts_vtp(const std::string& path, const std::vector<VtkContact>& contacts, const VtkTime& time) {
+  check_finite(std::isfinite(time.t), "write_contacts_vtp: time");
+  std::vector<Vec3> pts;
+  CellBlock verts;
   for (std::size_t i = 0; i < contacts.size(); ++i) {
     const VtkContact& c = contacts[i];
-    const std::string what = "write_contact_network_vtk: contact " + std::to_string(i);
-    check_finite(c.a.allFinite() && c.b.allFinite(), what + " end point");
-    check_finite(std::isfinite(c.normal_force), what + " normal force");
+    const std::string what = "write_contacts_vtp: contact " + std::to_string(i);
+    check_finite(c.point.allFinite(), what + " point");
+    check_finite(c.normal.allFinite(), what + " normal");
+    check_finite(c.normal_force.allFinite() && c.tangential_force.allFinite(), what + " force");
+    check_finite(std::isfinite(c.gap), what + " gap");
+    pts.push_back(c.point);
+    verts.add(std::vector<std::size_t>{i}, 0);
   }
   AtomicFile file(path);
   std::ostream& out = file.stream();
-  prepare(out);
-  header(out, title);
+  begin(out, time, pts.size(), verts.size(), 0);
   const std::size_t n = contacts.size();
-  out << "POINTS " << 2 * n << " double\n";
-  for (const VtkContact& c : contacts) {
-    put(out, c.a);
-    put(out, c.b);
+  out << "<PointData>\n";
+  data_array(out, "Float64", "normal", 3, n, [&](std::size_t i) { put(out, contacts[i].normal); });
+  data_array(out, "Float64", "normal_force", 3, n, [&](std::size_t i) { put(out, contacts[i].normal_force); });
+  data_array(out, "Float64", "tangential_force", 3, n, [&](std::size_t i) { put(out, contacts[i].tangential_force); });
+  data_array(out, "Float64", "normal_force_magnitude", 1, n,
+             [&](std::size_t i) { out << contacts[i].normal.dot(contacts[i].normal_force); });
+  data_array(out, "Float64", "gap", 1, n, [&](std::size_t i) { out << contacts[i].gap; });
+  data_array(out, "Int32", "body_a", 1, n, [&](std::size_t i) { out << contacts[i].body_a; });
+  data_array(out, "Int32", "body_b", 1, n, [&](std::size_t i) { out << contacts[i].body_b; });
+  out << "</PointData>\n";
+  points(out, pts);
+  cells(out, "Verts", verts);
+  end(out);
+  file.commit();
+}
+
+void write_container_vtp(const std::string& path, const ContainerMesh& mesh, const std::vector<Vec3>& normal,
+                         const std::vector<double>& normal_force, const VtkTime& time) {
+  const std::string what = "write_container_vtp: ";
+  check_finite(std::isfinite(time.t), what + "time");
+  const std::size_t n = mesh.polygons.size();
+  if (mesh.wall.size() != n || normal.size() != n || normal_force.size() != n)
+    throw std::invalid_argument(what + "wall, normal and normal_force need one entry per polygon (" +
+                                std::to_string(n) + ")");
+  for (const Vec3& p : mesh.points) check_finite(p.allFinite(), what + "point");
+  CellBlock polys;
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto& f = mesh.polygons[i];
+    if (f.size() < 3) throw std::invalid_argument(what + "polygon " + std::to_string(i) + " has fewer than 3 points");
+    for (int k : f)
+      if (k < 0 || static_cast<std::size_t>(k) >= mesh.points.size())
+        throw std::invalid_argument(what + "polygon " + std::to_string(i) + ": index " + std::to_string(k) +
+                                    " out of range");
+    if (mesh.wall[i] < 0) throw std::invalid_argument(what + "polygon " + std::to_string(i) + ": negative wall index");
+    check_finite(normal[i].allFinite() && std::isfinite(normal_force[i]), what + "polygon " + std::to_string(i) + " data");
+    polys.add(f, 0);
   }
-  if (n > 0) {
-    out << "LINES " << n << ' ' << 3 * n << '\n';
-    for (std::size_t i = 0; i < n; ++i) out << "2 " << 2 * i << ' ' << 2 * i + 1 << '\n';
-    out << "CELL_DATA " << n << "\nSCALARS normal_force double 1\nLOOKUP_TABLE default\n";
-    for (const VtkContact& c : contacts) out << c.normal_force << '\n';
-    // The body ids as FIELD arrays: a legacy reader takes only the first SCALARS block
-    // unless told to read all (vtkDataReader::ReadAllScalars), but always every FIELD array.
-    out << "FIELD FieldData 2\nbody_a 1 " << n << " int\n";
-    for (const VtkContact& c : contacts) out << c.body_a << '\n';
-    out << "body_b 1 " << n << " int\n";
-    for (const VtkContact& c : contacts) out << c.body_b << '\n';
-  }
+  AtomicFile file(path);
+  std::ostream& out = file.stream();
+  begin(out, time, mesh.points.size(), 0, polys.size());
+  out << "<CellData>\n";
+  data_array(out, "Int32", "wall_index", 1, n, [&](std::size_t i) { out << mesh.wall[i]; });
+  data_array(out, "Int32", "side_id", 1, n, [&](std::size_t i) { out << wall_side(mesh.wall[i]); });
+  data_array(out, "Float64", "normal", 3, n, [&](std::size_t i) { put(out, normal[i]); });
+  data_array(out, "Float64", "normal_force", 1, n, [&](std::size_t i) { out << normal_force[i]; });
+  out << "</CellData>\n";
+  points(out, mesh.points);
+  cells(out, "Polys", polys);
+  end(out);
   file.commit();
 }
 

@@ -1,15 +1,28 @@
-// Snapshots for ParaView (docs/output-format.md, "VTK files"; paper Fig. 4): legacy
-// ASCII VTK files ("# vtk DataFile Version 3.0", DATASET POLYDATA; format: VTK User's
-// Guide, "VTK File Formats", legacy format). Written atomically (PATH.partial, then
-// rename; io/atomic_file.hpp). Plain data, no World.
+// Snapshots for ParaView (docs/output-format.md, "VTK files"; paper Fig. 4): VTK XML
+// PolyData files (.vtp, "VTK User's Guide", "VTK File Formats", XML format), ASCII data
+// arrays, one piece. Every file carries the field data TimeValue (the simulated time,
+// which ParaView shows as the time of the file) and step. Written atomically
+// (PATH.partial, then rename; io/atomic_file.hpp). Plain data, no World.
+//
+// Each writer validates all of its input first, so bad input leaves no file behind:
+// std::invalid_argument for invalid or non-finite data, std::runtime_error on I/O
+// failure (nothing is left under path or path.partial).
 #pragma once
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
 #include "ratchet/core/types.hpp"
+#include "ratchet/observe/container_mesh.hpp"
 
 namespace ratchet {
+
+// The state a file shows: field data TimeValue (double) and step (Int64).
+struct VtkTime {
+  double t = 0.0;
+  std::int64_t step = 0;
+};
 
 // One body. A polyhedron gives its world vertices and faces (indices into vertices,
 // each face >= 3 of them, counter-clockwise seen from outside); a sphere gives exactly
@@ -17,36 +30,45 @@ namespace ratchet {
 struct VtkBody {
   int id = 0;
   Vec3 velocity = Vec3::Zero();
+  Vec3 angular_velocity = Vec3::Zero();  // world frame
+  double scale = 1.0;                    // thermal scale of the body (s_p, or 1 for a fixed body)
   std::vector<Vec3> vertices;
   std::vector<std::vector<int>> faces;
   double sphere_radius = 0.0;  // > 0 marks a sphere
 };
 
-// Particle shapes: every face of every polyhedron is a POLYGONS cell, every sphere a
-// VERTICES cell at its centre. CELL_DATA: body_id (int) and velocity (vector) of the
-// cell's body. POINT_DATA: radius (sphere radius at a sphere's centre, 0 at polyhedron
-// vertices; for ParaView's Glyph filter). Cells are listed VERTICES first, then
-// POLYGONS, as the format orders cell data.
-// Throws std::invalid_argument for an invalid body (before anything is written),
-// std::runtime_error on I/O failure (nothing is left under path or path.partial).
-void write_particles_vtk(const std::string& path, const std::vector<VtkBody>& bodies,
-                         const std::string& title = "ratchet particles");
+// Particle shapes: every sphere a Verts cell at its centre, every face of every
+// polyhedron a Polys cell (cells numbered Verts first, then Polys, as VTK numbers them).
+// PointData: body_id (Int32), radius (the sphere radius at a sphere's centre, 0 at
+// polyhedron vertices; for ParaView's Glyph filter), velocity, angular_velocity (3
+// components) and scale of the point's body. CellData: body_id, velocity,
+// angular_velocity and scale of the cell's body.
+void write_particles_vtp(const std::string& path, const std::vector<VtkBody>& bodies, const VtkTime& time);
 
-// One contact of the force network: a segment from a to b (the two body centres, or a
-// body centre and the contact point for a wall contact), its normal force and bodies
-// (body_b = -1 for a wall).
+// One contact point: its position, the normal (unit, from B towards A), the forces on
+// A (impulse / h), the gap and the bodies (body_b < 0: wall -1 - body_b).
 struct VtkContact {
-  Vec3 a = Vec3::Zero();
-  Vec3 b = Vec3::Zero();
-  double normal_force = 0.0;
+  Vec3 point = Vec3::Zero();
+  Vec3 normal = Vec3::UnitZ();
+  Vec3 normal_force = Vec3::Zero();
+  Vec3 tangential_force = Vec3::Zero();
+  double gap = 0.0;
   int body_a = 0;
   int body_b = -1;
 };
 
-// Contact force network: one LINES cell per contact, 2 points each. CELL_DATA:
-// SCALARS normal_force (double), and FIELD arrays body_a, body_b (int).
-// Throws std::invalid_argument for non-finite data, std::runtime_error on I/O failure.
-void write_contact_network_vtk(const std::string& path, const std::vector<VtkContact>& contacts,
-                               const std::string& title = "ratchet contact network");
+// Contacts as points: one Verts cell per contact at its point. PointData: normal,
+// normal_force, tangential_force (3 components), normal_force_magnitude (the signed
+// normal force n . normal_force, >= 0 from the solver), gap (Float64), body_a, body_b
+// (Int32).
+void write_contacts_vtp(const std::string& path, const std::vector<VtkContact>& contacts, const VtkTime& time);
+
+// Container walls: one Polys cell per polygon of the mesh (observe/container_mesh.hpp).
+// CellData: wall_index (Int32, index into the scene's walls), side_id (Int32, the
+// contacts' body_b of that wall: -1 - wall_index), normal (the wall's unit normal, into
+// the container) and normal_force (the wall's total normal force; Float64).
+// `normal` and `normal_force` give one entry per polygon.
+void write_container_vtp(const std::string& path, const ContainerMesh& mesh, const std::vector<Vec3>& normal,
+                         const std::vector<double>& normal_force, const VtkTime& time);
 
 }  // namespace ratchet

@@ -18,7 +18,7 @@ RunObservers::RunObservers(const World& world, std::string out_dir)
       peaks_(world.scene()),
       profile_(world.scene()),
       displacement_(world, clock_),
-      vtk_(world.scene(), out_dir_) {
+      vtk_(world, out_dir_) {
   const OutputSettings& o = scene_.outputs;
   if (o.volume) columns_.push_back("V_over_V0");
   if (o.segment_forces)

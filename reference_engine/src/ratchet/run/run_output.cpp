@@ -30,9 +30,15 @@ bool is_run_output(const std::string& name) {
   return base.rfind("displacement_", 0) == 0 && base.size() > 17 && base.compare(base.size() - 4, 4, ".csv") == 0;
 }
 
-bool is_vtk_output(const std::string& name) {
-  return (name.rfind("particles_", 0) == 0 || name.rfind("contacts_", 0) == 0) &&
-         (name.find(".vtk") != std::string::npos);
+// vtk/: the snapshots (.vtp; .vtk of older versions) and the .pvd indexes, final or .partial.
+bool is_vtk_output(std::string name) {
+  const std::string partial = ".partial";
+  if (name.size() > partial.size() && name.compare(name.size() - partial.size(), partial.size(), partial) == 0)
+    name.resize(name.size() - partial.size());
+  if (name == "particles.pvd" || name == "contacts.pvd" || name == "container.pvd") return true;
+  auto ends = [&](const char* ext) { return name.size() > 4 && name.compare(name.size() - 4, 4, ext) == 0; };
+  return (ends(".vtp") || ends(".vtk")) &&
+         (name.rfind("particles_", 0) == 0 || name.rfind("contacts_", 0) == 0 || name.rfind("container_", 0) == 0);
 }
 
 }  // namespace
@@ -55,7 +61,6 @@ std::vector<std::string> remove_previous_outputs(const std::string& dir) {
 
 RunOutput::RunOutput(const std::string& dir, const std::vector<std::string>& extra_columns) : dir_(dir) {
   std::filesystem::create_directories(dir_);
-  remove_previous_outputs(dir_);
   timeseries_ = std::make_unique<AtomicFile>(dir_ + "/timeseries.csv");
   bodies_ = std::make_unique<AtomicFile>(dir_ + "/bodies.csv");
   auto& ts = timeseries_->stream();

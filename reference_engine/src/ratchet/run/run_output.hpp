@@ -17,8 +17,8 @@ namespace ratchet {
 
 class RunOutput {
  public:
-  // Creates `dir`, removes an earlier run's outputs (remove_previous_outputs) and writes
-  // the CSV headers; extra_columns
+  // Creates `dir` and writes the CSV headers (the runner has removed an earlier run's
+  // outputs first, remove_previous_outputs, before any observer wrote); extra_columns
   // follow the fixed timeseries columns. Rows are written by the caller, step 0 included.
   RunOutput(const std::string& dir, const std::vector<std::string>& extra_columns);
   // One timeseries row; `extra` holds one value per extra column, in their order.
@@ -34,8 +34,9 @@ class RunOutput {
 
 // Removes from `dir` what an earlier run wrote there: run.json first (the folder no longer
 // looks complete), then timeseries.csv, bodies.csv, cycles.csv, wall_profile.csv,
-// displacement_<a>_<b>.csv (and their .partial files) and vtk/particles_*.vtk,
-// vtk/contacts_*.vtk. Other files are left alone. Returns the paths removed.
+// displacement_<a>_<b>.csv (and their .partial files), and in vtk/ the snapshots
+// particles_*, contacts_*, container_* (.vtp, or .vtk of older versions) and the .pvd
+// indexes. Other files are left alone. Returns the paths removed.
 std::vector<std::string> remove_previous_outputs(const std::string& dir);
 
 // Run metadata: scene as run, hash, engine version, effects, plan, timings.

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <memory>
 #include <optional>
 #include <vector>
@@ -68,6 +69,12 @@ int terminal_columns(int fd) {
 
 RunResult run_world(World& world, const RunOptions& options, const std::function<void(const World&)>& each_step) {
   const SceneDef& scene = world.scene();  // its end and start_time move when a settle section's stage ends
+  // An earlier run's outputs go before any observer writes (a VTK snapshot of the first
+  // state, for one): old files never stand beside this run's.
+  if (!options.out_dir.empty()) {
+    std::filesystem::create_directories(options.out_dir);
+    remove_previous_outputs(options.out_dir);
+  }
   RunObservers observers(world, options.out_dir);
   std::unique_ptr<RunOutput> out;
   std::vector<double> extra;  // the observers' columns of a timeseries row

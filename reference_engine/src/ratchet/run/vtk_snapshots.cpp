@@ -1,36 +1,28 @@
 #include "ratchet/run/vtk_snapshots.hpp"
 
 #include <algorithm>
+#include <cstdio>
 #include <filesystem>
-#include <vector>
 
+#include "ratchet/core/contact_side.hpp"
 #include "ratchet/observe/bed_geometry.hpp"
-#include "ratchet/observe/vtk_writer.hpp"
 
 namespace ratchet {
 
-void VtkSnapshots::after_step(const World& world, const ClockTick& tick) const {
-  if (tick.cycle < 0) return;
-  const std::vector<int>& cycles = scene_.outputs.vtk_cycles;
-  if (std::find(cycles.begin(), cycles.end(), tick.cycle) == cycles.end()) return;
-  const std::string k = std::to_string(tick.cycle);
-  if (tick.ends.heating) write(world, "cycle" + k + "_end_heating");
-  if (tick.ends.cooling) write(world, "cycle" + k + "_end_cooling");
-}
-
-void VtkSnapshots::write(const World& world, const std::string& tag) const {
-  if (out_dir_.empty()) return;
-  const std::string dir = out_dir_ + "/vtk";
-  std::filesystem::create_directories(dir);
+VtkSnapshot take_vtk_snapshot(const World& world) {
   const SceneDef& s = world.scene();
   const State& st = world.state();
-  std::vector<VtkBody> bodies;
+  VtkSnapshot snap;
+  snap.time = {st.t, st.step};
   PlacedBody placed;
   for (std::size_t i = 0; i < s.bodies.size(); ++i) {
-    place_body(s, st, static_cast<int>(i), placed);
+    const int id = static_cast<int>(i);
+    place_body(s, st, id, placed);
     VtkBody vb;
-    vb.id = static_cast<int>(i);
+    vb.id = id;
     vb.velocity = st.v[i];
+    vb.angular_velocity = st.w[i];
+    vb.scale = body_scale(s, st, id);
     // The VTK file draws a sphere as a glyph at its centre, a polyhedron as its faces.
     vb.sphere_radius = placed.sphere_radius;
     if (placed.faces != nullptr) {
@@ -39,21 +31,80 @@ void VtkSnapshots::write(const World& world, const std::string& tag) const {
     } else {
       vb.vertices.push_back(st.x[i]);
     }
-    bodies.push_back(std::move(vb));
+    snap.bodies.push_back(std::move(vb));
   }
-  write_particles_vtk(dir + "/particles_" + tag + ".vtk", bodies);
-  std::vector<VtkContact> contacts;
+  const double h = s.dt;
+  std::vector<double> wall_force(s.container.walls.size(), 0.0);
   for (const SolverContact& c : world.contacts()) {
-    if (c.lambda[0] <= 0.0) continue;
     VtkContact vc;
-    vc.a = st.x[c.a];
-    vc.b = c.b >= 0 ? st.x[c.b] : c.geometry.point;
-    vc.normal_force = c.lambda[0] / s.dt;
+    vc.point = c.geometry.point;
+    vc.normal = c.geometry.normal;
+    vc.normal_force = c.lambda[0] / h * c.geometry.normal;
+    vc.tangential_force = (c.lambda[1] * c.t1 + c.lambda[2] * c.t2) / h;
+    vc.gap = c.geometry.gap;
     vc.body_a = c.a;
     vc.body_b = c.b;
-    contacts.push_back(vc);
+    snap.contacts.push_back(vc);
+    if (is_wall(c.b)) wall_force[static_cast<std::size_t>(wall_index(c.b))] += c.lambda[0];
   }
-  write_contact_network_vtk(dir + "/contacts_" + tag + ".vtk", contacts);
+  snap.container = container_mesh(s, st.s_c);
+  for (int w : snap.container.wall) {
+    snap.wall_normal.push_back(s.container.walls[static_cast<std::size_t>(w)].normal);
+    snap.wall_force.push_back(wall_force[static_cast<std::size_t>(w)] / h);
+  }
+  return snap;
+}
+
+std::string vtk_step_tag(std::int64_t step) {
+  char buf[40];
+  std::snprintf(buf, sizeof buf, "step%08lld", static_cast<long long>(step));
+  return buf;
+}
+
+VtkSnapshots::VtkSnapshots(const World& world, std::string out_dir)
+    : scene_(world.scene()), out_dir_(std::move(out_dir)) {
+  if (!out_dir_.empty() && scene_.outputs.vtk_every > 0) write(world, vtk_step_tag(world.state().step));
+}
+
+void VtkSnapshots::after_step(const World& world, const ClockTick& tick) {
+  if (out_dir_.empty()) return;
+  const std::int64_t k = world.state().step;
+  const int every = scene_.outputs.vtk_every;
+  if (every > 0 && (k % every == 0 || k == scene_.steps)) write(world, vtk_step_tag(k));
+  if (tick.cycle < 0) return;
+  const std::vector<int>& cycles = scene_.outputs.vtk_cycles;
+  if (std::find(cycles.begin(), cycles.end(), tick.cycle) == cycles.end()) return;
+  const std::string c = std::to_string(tick.cycle);
+  if (tick.ends.heating) write(world, "cycle" + c + "_end_heating");
+  if (tick.ends.cooling) write(world, "cycle" + c + "_end_cooling");
+}
+
+void VtkSnapshots::write(const World& world, const std::string& tag) {
+  if (out_dir_.empty()) return;
+  write(take_vtk_snapshot(world), tag);
+}
+
+void VtkSnapshots::write(const VtkSnapshot& snap, const std::string& tag) {
+  const std::string dir = out_dir_ + "/vtk";
+  std::filesystem::create_directories(dir);
+  const std::string particles = "particles_" + tag + ".vtp", contacts = "contacts_" + tag + ".vtp",
+                    container = "container_" + tag + ".vtp";
+  const bool walls = !snap.container.polygons.empty();
+  write_particles_vtp(dir + "/" + particles, snap.bodies, snap.time);
+  write_contacts_vtp(dir + "/" + contacts, snap.contacts, snap.time);
+  if (walls) write_container_vtp(dir + "/" + container, snap.container, snap.wall_normal, snap.wall_force, snap.time);
+  // A state written under two tags (a stage end on a step of vtk_every) is indexed once,
+  // under the first: one time, one data set.
+  if (snap.time.step == last_indexed_step_) return;
+  last_indexed_step_ = snap.time.step;
+  particles_.push_back({snap.time.t, particles});
+  contacts_.push_back({snap.time.t, contacts});
+  write_pvd(dir + "/particles.pvd", particles_);
+  write_pvd(dir + "/contacts.pvd", contacts_);
+  if (walls) {
+    container_.push_back({snap.time.t, container});
+    write_pvd(dir + "/container.pvd", container_);
+  }
 }
 
 }  // namespace ratchet

@@ -1,26 +1,61 @@
-// VTK files at the ends of heating and cooling of the cycles in outputs.vtk_cycles
-// (docs/output-format.md, "VTK files"): particle shapes and the contact force network,
-// written with observe/vtk_writer.hpp under DIR/vtk/.
+// VTK snapshots of a run for ParaView (docs/output-format.md, "VTK files"): at the ends
+// of heating and cooling of the cycles in outputs.vtk_cycles, and with
+// outputs.vtk_every = N at the run's first state, after every step k with k % N == 0
+// and after the last step. A snapshot is written under DIR/vtk/ as particles_<tag>.vtp,
+// contacts_<tag>.vtp and (with a container) container_<tag>.vtp
+// (observe/vtk_writer.hpp, observe/container_mesh.hpp); after each, the indexes
+// particles.pvd, contacts.pvd and container.pvd are rewritten (observe/pvd_writer.hpp),
+// so a killed run still leaves a valid index of what it wrote. Only reads the world.
 #pragma once
 
+#include <cstdint>
 #include <string>
+#include <vector>
 
+#include "ratchet/observe/container_mesh.hpp"
+#include "ratchet/observe/pvd_writer.hpp"
+#include "ratchet/observe/vtk_writer.hpp"
 #include "ratchet/run/cycle_clock.hpp"
 #include "ratchet/world/world.hpp"
 
 namespace ratchet {
 
+// Everything one snapshot writes, taken from a world.
+struct VtkSnapshot {
+  VtkTime time;
+  std::vector<VtkBody> bodies;
+  std::vector<VtkContact> contacts;  // every contact point of the last step, open ones too
+  ContainerMesh container;
+  std::vector<Vec3> wall_normal;   // per container polygon
+  std::vector<double> wall_force;  // per container polygon: sum of lambda_n / h over its wall's contacts
+};
+
+// The world's current state and last step's contacts as a snapshot.
+VtkSnapshot take_vtk_snapshot(const World& world);
+
+// The tag of the snapshot of step k under outputs.vtk_every: "step" and k with at least
+// 8 digits (step00001200).
+std::string vtk_step_tag(std::int64_t step);
+
 class VtkSnapshots {
  public:
-  // No files when out_dir is empty.
-  VtkSnapshots(const SceneDef& scene, std::string out_dir) : scene_(scene), out_dir_(std::move(out_dir)) {}
-  void after_step(const World& world, const ClockTick& tick) const;
-  // DIR/vtk/particles_<tag>.vtk and contacts_<tag>.vtk of the current state.
-  void write(const World& world, const std::string& tag) const;
+  // At the run's first state; out_dir empty: no files.
+  VtkSnapshots(const World& world, std::string out_dir);
+
+  // After every step. (An earlier run's VTK files were removed by the runner before this
+  // object wrote the first state: remove_previous_outputs, run/run_output.hpp.)
+  void after_step(const World& world, const ClockTick& tick);
+
+  // Writes the current state under `tag` and indexes it.
+  void write(const World& world, const std::string& tag);
 
  private:
+  void write(const VtkSnapshot& snap, const std::string& tag);
+
   const SceneDef& scene_;
   std::string out_dir_;
+  std::int64_t last_indexed_step_ = -1;
+  std::vector<PvdEntry> particles_, contacts_, container_;
 };
 
 }  // namespace ratchet

@@ -459,7 +459,8 @@ std::vector<std::pair<int, int>> read_windows(const Reader& r, const json& j, co
 void read_outputs(const Reader& r, const json& j, SceneDef& s) {
   const std::string p = "outputs";
   r.object(j, p, {"timeseries_every", "bodies_every", "volume", "segment_forces", "cycles", "steady_cycles",
-                  "displacement", "wall_profile_bins", "settled_profile_time", "vtk_cycles", "pressure_window"});
+                  "displacement", "wall_profile_bins", "settled_profile_time", "vtk_cycles", "vtk_every",
+                  "pressure_window"});
   OutputSettings& o = s.outputs;
   o.timeseries_every = static_cast<int>(r.integer(j, p, "timeseries_every", 1, 1, 1 << 30));
   o.bodies_every = static_cast<int>(r.integer(j, p, "bodies_every", 0, 0, 1 << 30));
@@ -494,7 +495,15 @@ void read_outputs(const Reader& r, const json& j, SceneDef& s) {
       if (!k.is_number_integer() || k.get<int>() < 0) r.fail(p + ".vtk_cycles", "a list of cycle indices >= 0", &v);
       o.vtk_cycles.push_back(k.get<int>());
     }
+    // The cycles are those of the thermal protocol: without any, the list would
+    // silently write nothing.
+    if (!o.vtk_cycles.empty() && !(s.thermal.enabled && s.thermal.cycles > 0))
+      r.fail(p + ".vtk_cycles",
+             "an empty list in a scene without thermal cycles (a thermal section with cycles > 0 is needed; "
+             "outputs.vtk_every writes VTK every N steps in any scene)",
+             &v);
   }
+  o.vtk_every = static_cast<int>(r.integer(j, p, "vtk_every", 0, 0, 1 << 30));
 }
 
 // The settle stage (run/packing.hpp): until KE <= ke_ratio x peak, at most max_time.

@@ -116,7 +116,8 @@ struct OutputSettings {
   int wall_profile_bins = 0;  // > 0: wall_profile.csv, averaged over the cold hold of every cycle
   double settled_profile_time = 0.0;  // > 0: also the settled bed's profile, over this time before cycling
   double pressure_window = 0.5;  // time units: block average of P(t) for the per-cycle peaks
-  std::vector<int> vtk_cycles;  // VTK at the ends of heating and cooling of these cycles
+  std::vector<int> vtk_cycles;  // VTK at the ends of heating and cooling of these cycles (thermal cycles only)
+  int vtk_every = 0;            // > 0: VTK of the first state, every step k with k % vtk_every == 0, and the last
 };
 
 // The settle section (docs/scene-format.md, "settle"): the bed settles until its
