@@ -152,20 +152,60 @@ def format_measured(value: float) -> str:
     return repr(float(value)) if math.isfinite(value) else NON_FINITE
 
 
+def format_short(value: float) -> str:
+    """4 significant digits for the reports' tables (full precision stays in the JSON
+    lines, the terminal table and the HTML cell's title)."""
+    return f"{float(value):.4g}" if math.isfinite(value) else NON_FINITE
+
+
 def table_rows(checks: pd.DataFrame) -> list[dict]:
-    """The checks as display strings: TABLE_COLUMNS plus reason."""
+    """The checks as display strings: TABLE_COLUMNS plus reason (measured at full
+    precision; measured_short with 4 significant digits, for the reports)."""
     return [
         {
             "case": row.case,
             "check": row.check,
             "expected": row.expected,
             "measured": format_measured(row.measured),
+            "measured_short": format_short(row.measured),
             "tolerance": row.tolerance,
             "result": result_text(row.passed, row.resolved),
             "reason": row.reason,
+            "area": area_of(row.case),
         }
         for row in checks.itertuples(index=False)
     ]
+
+
+#: Areas of the summary, by the start of a check's case name (first match wins).
+AREAS = (
+    ("The paper's trends", ("trends_",)),
+    ("Cross-method (LIGGGHTS)", ("liggghts",)),
+    ("Hard cases", ("deep_overlap",)),
+    ("Polyhedron contact", ("box ", "polyhedra ")),
+    ("Analytic cases", ("single particle", "jammed sphere", "free fall", "incline", "sphere column")),
+)
+OTHER_AREA = "Other checks"
+
+
+def area_of(case: str) -> str:
+    for area, prefixes in AREAS:
+        if case.startswith(prefixes):
+            return area
+    return OTHER_AREA
+
+
+def area_summary(rows: Sequence[dict]) -> list[dict]:
+    """Per area (in AREAS order, then others): passed, failed, not resolved, total."""
+    order = [a for a, _ in AREAS] + [OTHER_AREA]
+    out = []
+    for area in order:
+        mine = [r for r in rows if r["area"] == area]
+        if mine:
+            out.append({"area": area, "passed": sum(r["result"] == "PASS" for r in mine),
+                        "failed": sum(r["result"] == "FAIL" for r in mine),
+                        "unresolved": sum(r["result"] == NOT_RESOLVED for r in mine), "total": len(mine)})
+    return out
 
 
 def result_text(passed: bool, resolved: bool) -> str:
@@ -392,6 +432,7 @@ def _context(checks: pd.DataFrame, meta: dict[str, str] | None, current: dict | 
              stored: Sequence[dict]) -> dict:
     """What both reports show, as plain values."""
     counts = totals(checks)
+    rows = table_rows(checks)
     return {
         "meta": dict(meta or {}),
         "counts_text": _counts_text(*counts),
@@ -404,7 +445,8 @@ def _context(checks: pd.DataFrame, meta: dict[str, str] | None, current: dict | 
         "no_stored_text": NO_STORED_TEXT,
         "accuracy_text": ACCURACY_TEXT,
         "columns": list(TABLE_COLUMNS) + ["reason"],
-        "rows": table_rows(checks),
+        "rows": rows,
+        "areas": area_summary(rows),
     }
 
 

@@ -77,9 +77,13 @@ def test_table_contains_each_check(folders, capsys):
         for text in (terminal, markdown, page):
             assert record["case"] in text
             assert record["check"] in text
-            assert repr(record["measured"]) in text
             assert record["tolerance"] in text
-    assert "0.30000000000000004" in markdown  # full precision, not rounded
+        # Full precision in the terminal and in the HTML cell's title; 4 significant
+        # digits in the reports' tables (the JSON lines keep every digit).
+        assert repr(record["measured"]) in terminal
+        assert f'title="{record["measured"]!r}"' in page
+        assert f"| {record['measured']:.4g} |" in markdown
+    assert "0.30000000000000004" in terminal and "| 0.3 |" in markdown
     assert "checks: 2 passed, 1 failed" in terminal.splitlines()[-1]
     assert status == 1
 
@@ -274,7 +278,7 @@ def test_markdown_escapes_pipes(folders):
     write_checks(checks, [check("c", "a|b", 1.0, "1", "abs 0", "line\nbreak", True)])
     assert run(checks, out) == 0
     markdown = (out / "report.md").read_text(encoding="utf-8")
-    assert "| c | a\\|b | 1 | 1.0 | abs 0 | PASS | line break |" in markdown
+    assert "| c | a\\|b | 1 | 1 | abs 0 | PASS | line break |" in markdown
 
 
 def test_header_has_date_and_tier(folders):
@@ -431,3 +435,24 @@ def test_the_report_shows_what_accuracy_costs(folders):
         assert os.path.relpath(figure, out).replace(os.sep, "/") in section
     page = (out / "report.html").read_text(encoding="utf-8")
     assert page.count("data:image/png;base64,") >= len(figures)
+
+
+def test_the_summary_counts_checks_per_area_and_the_contents_link_every_section(folders):
+    checks, out = folders
+    records = [check("free fall, theta = 1", "z", 1.0, passed=True),
+               check("box on box (aligned)", "points", 4.0, passed=False),
+               check("trends_angle:angle", "P_max slope", -0.8, passed=True),
+               dict(check("trends_angle:angle", "P_max(6 deg)/P_max(0 deg)", 0.61, passed=True), resolved=False),
+               check("something new", "x", 2.0, passed=True)]
+    write_checks(checks, records)
+    assert run(checks, out) == 1
+    markdown = (out / "report.md").read_text(encoding="utf-8")
+    summary = markdown.split("## Summary", 1)[1].split("## The paper's headline trends", 1)[0]
+    assert "| The paper's trends | 1 | 0 | 1 | 2 |" in summary
+    assert "| Polyhedron contact | 0 | 1 | 0 | 1 |" in summary
+    assert "| Analytic cases | 1 | 0 | 0 | 1 |" in summary
+    assert "| Other checks | 1 | 0 | 0 | 1 |" in summary
+    assert markdown.index("## Summary") < markdown.index("## Checks of this run")
+    page = (out / "report.html").read_text(encoding="utf-8")
+    for anchor in ("summary", "headline", "checks"):
+        assert f'href="#{anchor}"' in page and f'id="{anchor}"' in page
