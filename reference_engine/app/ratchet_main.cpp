@@ -2,6 +2,7 @@
 //   ratchet run SCENE.json --out DIR [--packing FILE] [--set key.path=value ...] [--quiet]
 //   ratchet run --explain SCENE.json [--packing FILE] [--set ...]
 //   ratchet pack SCENE.json --out FILE [--set key.path=value ...] [--quiet]
+//   ratchet bodies SCENE.json --out FILE.json [--set key.path=value ...] [--quiet]
 //   ratchet sweep SWEEP.json --out DIR [--jobs N]
 //   ratchet --version | -V | version,  ratchet help [COMMAND] | --help | -h,  ratchet COMMAND --help
 #include <unistd.h>
@@ -29,6 +30,7 @@
 #include <thread>
 
 #include "cli_main.hpp"
+#include "ratchet/io/bodies_file.hpp"
 #include "ratchet/io/state_file.hpp"
 #include "ratchet/observe/energy.hpp"
 #include "ratchet/run/packing.hpp"
@@ -51,6 +53,7 @@ const std::map<std::string, std::string> kSynopsis = {
      "  ratchet run SCENE.json --out DIR [--packing FILE] [--set key.path=value ...] [--quiet]\n"
      "  ratchet run --explain SCENE.json [--packing FILE] [--set key.path=value ...]\n"},
     {"pack", "  ratchet pack SCENE.json --out FILE [--set key.path=value ...] [--quiet]\n"},
+    {"bodies", "  ratchet bodies SCENE.json --out FILE.json [--set key.path=value ...] [--quiet]\n"},
     {"sweep", "  ratchet sweep SWEEP.json --out DIR [--jobs N]\n"},
     {"help", "  ratchet help [COMMAND]\n"},
     {"version", "  ratchet version\n"},
@@ -59,13 +62,16 @@ const std::map<std::string, std::string> kSynopsis = {
 const char* kUsage =
     "usage:\n"
     "  ratchet run SCENE.json --out DIR [--packing FILE] [--set key.path=value ...] [--quiet]\n"
-    "      run a scene; writes DIR/timeseries.csv, DIR/bodies.csv, DIR/run.json;\n"
-    "      with --packing, start from that settled packing (made by ratchet pack)\n"
+    "      run a scene; writes DIR/timeseries.csv, DIR/bodies.csv, DIR/bodies_shapes.json,\n"
+    "      DIR/run.json; with --packing, start from that settled packing (made by ratchet pack)\n"
     "  ratchet run --explain SCENE.json [--packing FILE] [--set key.path=value ...]\n"
     "      print the phases the scene will run and why, then exit\n"
     "  ratchet pack SCENE.json --out FILE [--set key.path=value ...] [--quiet]\n"
     "      pour and settle the bed (until settle.ke_ratio, or up to thermal.start_time without a\n"
     "      settle section); write the packing to FILE\n"
+    "  ratchet bodies SCENE.json --out FILE.json [--set key.path=value ...] [--quiet]\n"
+    "      build the scene as run does and write its bodies and shapes (poses, mass properties,\n"
+    "      vertices) to FILE.json\n"
     "  ratchet sweep SWEEP.json --out DIR [--jobs N]\n"
     "      run every point of a sweep (grid x realizations), N runs at a time (default: all cores);\n"
     "      under mpirun -n K the runs are spread over K ranks; writes DIR/packings/, DIR/runs/<id>/,\n"
@@ -126,6 +132,19 @@ std::string folder_problem(const fs::path& dir) {
   if (!fs::is_directory(up, ec)) return up.string() + " is " + kind(up);
   if (access(up.c_str(), W_OK | X_OK) != 0)
     return "no folder can be created in " + up.string() + " (" + std::strerror(errno) + ")";
+  return "";
+}
+
+// Why `out` cannot be an output file (`what`: "the packing", "the bodies file"), or ""
+// when it can: a folder, or a path whose folder is a file or cannot be created.
+std::string file_problem(const std::string& out, const std::string& what) {
+  const fs::path file(out), parent = file.parent_path().empty() ? fs::path(".") : file.parent_path();
+  std::error_code ec;
+  if (fs::is_directory(file, ec) || !file.has_filename())
+    return "--out " + out + ": expected a file (" + what + "), but it names a folder";
+  const std::string problem = folder_problem(parent);
+  if (!problem.empty())
+    return "--out " + out + ": expected a file in a folder that exists or can be created, but " + problem;
   return "";
 }
 
@@ -221,14 +240,8 @@ int run_or_pack(const bool pack, const SceneArgs& a) {
   if (pack && out_dir.empty()) return usage_error("--out FILE is required to pack a scene", command);
   if (!do_explain && out_dir.empty()) return usage_error("--out DIR is required to run a scene", command);
   if (pack) {
-    const fs::path file(out_dir), parent = file.parent_path().empty() ? fs::path(".") : file.parent_path();
-    std::error_code ec;
-    if (fs::is_directory(file, ec) || !file.has_filename())
-      return input_error("--out " + out_dir + ": expected a file (the packing), but it names a folder");
-    const std::string problem = folder_problem(parent);
-    if (!problem.empty())
-      return input_error("--out " + out_dir + ": expected a file in a folder that exists or can be created, but " +
-                         problem);
+    const std::string problem = file_problem(out_dir, "the packing");
+    if (!problem.empty()) return input_error(problem);
   } else if (!do_explain) {  // with --explain, --out is ignored
     const std::string problem = folder_problem(out_dir);
     if (!problem.empty())
@@ -311,6 +324,33 @@ int run_or_pack(const bool pack, const SceneArgs& a) {
   }
 }
 
+// `ratchet bodies`: the scene built as `run` builds it (same parser, seed and --set
+// overrides, the world's initial state), its bodies and shapes written to one JSON file.
+int write_bodies(const SceneArgs& a) {
+  const std::string command = "bodies";
+  if (a.scene.empty()) return usage_error("no scene file given", command);
+  if (a.out.empty()) return usage_error("--out FILE.json is required to write the bodies", command);
+  const std::string problem = file_problem(a.out, "the bodies file");
+  if (!problem.empty()) return input_error(problem);
+  try {
+    const ratchet::SceneDef scene = ratchet::load_scene(a.scene, a.overrides);
+    const ratchet::World world(scene);
+    const fs::path parent = fs::path(a.out).parent_path();
+    if (!parent.empty()) fs::create_directories(parent);
+    ratchet::write_bodies_file(a.out, world.scene(), world.state());
+    if (!a.quiet)
+      std::cerr << "ratchet: " << scene.name << ": " << scene.bodies.size() << " bodies, " << scene.shapes.size()
+                << " shapes -> " << a.out << "\n";
+    return 0;
+  } catch (const ratchet::SceneError& e) {
+    std::cerr << "ratchet: error: " << e.what() << "\n";
+    return 2;
+  } catch (const std::exception& e) {
+    std::cerr << "ratchet: error: " << e.what() << "\n";
+    return 1;
+  }
+}
+
 }  // namespace
 
 int ratchet_cli_main(int argc, char** argv) {
@@ -330,12 +370,13 @@ int ratchet_cli_main(int argc, char** argv) {
 
   CLI::App* help = app.add_subcommand("help", "print the usage, or the options of COMMAND");
   std::string help_topic;
-  help->add_option("COMMAND", help_topic, "run, pack or sweep")->type_name("");
+  help->add_option("COMMAND", help_topic, "run, pack, bodies or sweep")->type_name("");
   CLI::App* version = app.add_subcommand("version", "print the version and build type");
 
-  SceneArgs run_args, pack_args;
-  CLI::App* run = app.add_subcommand("run", "Run a scene: DIR/timeseries.csv, DIR/bodies.csv, DIR/run.json and "
-                                             "the outputs the scene asks for (docs/output-format.md).");
+  SceneArgs run_args, pack_args, bodies_args;
+  CLI::App* run = app.add_subcommand("run", "Run a scene: DIR/timeseries.csv, DIR/bodies.csv, DIR/bodies_shapes.json, "
+                                             "DIR/run.json and the outputs the scene asks for "
+                                             "(docs/output-format.md).");
   run->add_option("SCENE.json", run_args.scene, "the scene file (docs/scene-format.md)")->type_name("");
   run->add_option("--out", run_args.out, "output folder, created if missing; required unless --explain")
       ->type_name("DIR");
@@ -363,6 +404,21 @@ int ratchet_cli_main(int argc, char** argv) {
       ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
   pack->add_flag("--quiet", pack_args.quiet, "no progress line and no closing line");
 
+  CLI::App* bodies = app.add_subcommand(
+      "bodies", "Build the scene as run does (same generator, seed and --set overrides) and write its bodies and "
+                "shapes to FILE.json: per body kind, radius or shape, pose, velocities, mass, principal inertia, "
+                "bounding radius, fixed; per shape body-frame vertices, faces, volume (docs/output-format.md).");
+  bodies->add_option("SCENE.json", bodies_args.scene, "the scene file (docs/scene-format.md)")->type_name("");
+  bodies->add_option("--out", bodies_args.out,
+                     "the JSON file (required), written atomically; its folder is created if missing; not a folder")
+      ->type_name("FILE.json");
+  bodies->add_option("--set", bodies_args.overrides, "override a scene field before checking; repeatable")
+      ->type_name("key.path=value")
+      ->expected(1)
+      ->allow_extra_args(false)
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+  bodies->add_flag("--quiet", bodies_args.quiet, "no closing line");
+
   std::string sweep_file, sweep_out, jobs_text;
   CLI::App* sweep_cmd = app.add_subcommand("sweep", "Run every point of a sweep (grid x realizations) from shared "
                                                     "packings; resumes: complete runs are kept (docs/sweeps.md).");
@@ -373,7 +429,7 @@ int ratchet_cli_main(int argc, char** argv) {
   sweep_cmd->add_option("--jobs", jobs_text,
                         "runs at a time per process, N >= 1 (default: all cores; 1 per rank under mpirun)")
       ->type_name("N");
-  for (CLI::App* sub : {help, version, run, pack, sweep_cmd}) sub->allow_extras();
+  for (CLI::App* sub : {help, version, run, pack, bodies, sweep_cmd}) sub->allow_extras();
 
   const auto command_of = [&]() -> std::string {
     const auto subs = app.get_subcommands();
@@ -404,9 +460,10 @@ int ratchet_cli_main(int argc, char** argv) {
     const std::string& extra = extras.front();
     if (!extra.empty() && extra[0] == '-') return usage_error("unknown option '" + extra + "'", command);
     if (command.empty()) return usage_error("unknown command '" + extra + "'");
-    if (command == "run" || command == "pack")
-      return usage_error("more than one scene file given ('" + (command == "run" ? run_args : pack_args).scene +
-                         "', '" + extra + "')", command);
+    if (command == "run" || command == "pack" || command == "bodies") {
+      const SceneArgs& given = command == "run" ? run_args : command == "pack" ? pack_args : bodies_args;
+      return usage_error("more than one scene file given ('" + given.scene + "', '" + extra + "')", command);
+    }
     if (command == "sweep") return usage_error("more than one sweep file given", command);
     return usage_error("unexpected argument '" + extra + "'", command);
   }
@@ -442,5 +499,6 @@ int ratchet_cli_main(int argc, char** argv) {
                          problem);
     return sweep(sweep_file, sweep_out, jobs);
   }
+  if (command == "bodies") return write_bodies(bodies_args);
   return run_or_pack(command == "pack", command == "pack" ? pack_args : run_args);
 }

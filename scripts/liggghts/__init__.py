@@ -1,8 +1,7 @@
 """Cross-method verification of the ratchet NSCD engine against soft-sphere DEM
 (LIGGGHTS 3.8.0). Modules:
 
-  mt19937_64  std::mt19937_64 in Python (the engine's particle generator)
-  scene       reads a sphere scene like the engine does, with the generated particles
+  scene       reads a sphere scene's settings; its spheres from the engine (`ratchet bodies`)
   units       dimensionless engine units <-> SI units of the DEM run
   translate   scene -> LIGGGHTS input deck + STL wall meshes + meta.json
   parse       LIGGGHTS log -> CSV with the engine's timeseries.csv columns

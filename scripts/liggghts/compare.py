@@ -23,7 +23,7 @@ from common.jsonsafe import dumps
 from common.paths import engine_binary
 
 from .parse import ParseError, dem_wall_profile, log_completed, parse_run, read_dump
-from .scene import SceneError, load_scene
+from .scene import EngineError, SceneError, load_scene
 from .translate import DECK, LOG, add_dem_arguments, options_from_args, translate
 from .units import Units, frustum_volume
 
@@ -69,8 +69,8 @@ def engine_check_scene(ratchet, scene_path, extra_sets=()):
 
 
 def check_generated_positions(engine_dir, scene):
-    """The translation regenerates the engine's particles in Python (scene.py); the
-    engine's step-0 bodies.csv must hold exactly the same centres."""
+    """The translation takes its particles from `ratchet bodies` (scene.py); the run's
+    first bodies.csv rows must hold exactly the same centres (same scene, same build)."""
     b = pd.read_csv(os.path.join(engine_dir, "bodies.csv"), float_precision="round_trip")
     b0 = b[b["step"] == 0].sort_values("id")
     mine = np.array([s.position for s in scene.spheres])
@@ -78,10 +78,9 @@ def check_generated_positions(engine_dir, scene):
     if mine.shape != theirs.shape or not np.array_equal(mine, theirs):
         worst = float(np.max(np.abs(mine - theirs))) if mine.shape == theirs.shape else float("nan")
         raise CompareError(
-            f"{engine_dir}/bodies.csv: the engine's initial particle centres differ from the ones the "
-            f"translation generated ({len(theirs)} vs {len(mine)} bodies, largest difference {worst:.3g}): the "
-            "engine's particle generator (scene.cpp lattice_sites/read_generated) changed; update "
-            "scripts/liggghts/scene.py to match it")
+            f"{engine_dir}/bodies.csv: the run's initial particle centres differ from the ones `ratchet bodies` "
+            f"gave the translation ({len(theirs)} vs {len(mine)} bodies, largest difference {worst:.3g}): the "
+            "engine run and the bodies file were made from different scenes or by different builds")
 
 
 def engine_complete(outdir):
@@ -348,22 +347,22 @@ def main(argv=None):
     args = parse_args(argv)
     try:
         return _main(args)
-    except (SceneError, ParseError, CompareError) as e:
+    except (SceneError, ParseError, CompareError, EngineError) as e:
         print(f"compare-methods: error: {e}", file=sys.stderr)
         return 2 if isinstance(e, SceneError) else 1
 
 
 def _main(args):
-    scene = load_scene(args.scene)
+    ratchet = str(engine_binary())
+    if not (os.path.isfile(ratchet) and os.access(ratchet, os.X_OK)):
+        raise CompareError(f"engine binary not found or not executable: {ratchet} (set RATCHET_BIN)")
+    scene = load_scene(args.scene, ratchet)  # the spheres: `ratchet bodies`
     out = args.out
     os.makedirs(out, exist_ok=True)
-    ratchet = str(engine_binary())
     engine_dir = os.path.join(out, "engine")
     Es = list(dict.fromkeys(args.E))
     timings = []
 
-    if not (os.path.isfile(ratchet) and os.access(ratchet, os.X_OK)):
-        raise CompareError(f"engine binary not found or not executable: {ratchet} (set RATCHET_BIN)")
     ok, msg = engine_check_scene(ratchet, os.path.abspath(args.scene))
     if not ok:
         raise CompareError(f"the engine rejects the scene: {msg}")

@@ -1,25 +1,36 @@
 """Reading a ratchet scene for the LIGGGHTS translation.
 
-The engine's parser (reference_engine/src/ratchet/scene/scene.cpp) is the authority;
-this module reads the subset that a sphere scene needs, with the same defaults, and
-reproduces the generated particles exactly (same std::mt19937_64 draws, same lattice
-arithmetic; the engine is compiled with -ffp-contract=off, so Python doubles give the
-same numbers). What the translation cannot carry (polyhedra, boxes) is refused with
-a message naming the file and the field.
+The engine's parser (reference_engine/src/ratchet/scene/scene.cpp) is the authority.
+The bodies, generated or listed, come from the engine itself: `ratchet bodies SCENE
+--out FILE` builds the scene exactly as `ratchet run` does and writes every body
+(docs/output-format.md, "Bodies and shapes"); nothing is regenerated here. This module
+reads the settings a sphere scene's deck needs (time, materials, effects, container,
+thermal protocol), with the engine's defaults. What the translation cannot carry
+(polyhedra, boxes, a settle section) is refused with a message naming the file and
+the field.
 """
 
 import json
 import math
+import os
+import subprocess
+import tempfile
 from dataclasses import dataclass, field
 from typing import List, Optional
 
 from common.jsonc import loads_json_with_comments
+from common.paths import engine_binary
 
-from .mt19937_64 import MT19937_64, uniform
+BODIES_FORMAT = "ratchet-bodies"
+BODIES_VERSION = 1
 
 
 class SceneError(ValueError):
     """A scene that cannot be read or translated; the message names file and field."""
+
+
+class EngineError(RuntimeError):
+    """The engine binary is missing, or failed on a scene it accepted."""
 
 
 @dataclass
@@ -94,6 +105,7 @@ class Scene:
     thermal: Optional[Thermal] = None
     timeseries_every: int = 1
     raw: dict = field(default_factory=dict)
+    bodies_file: Optional[dict] = None     # the document `ratchet bodies` wrote (load_scene)
 
     @property
     def steps(self):
@@ -247,112 +259,68 @@ def cone_walls(bottom_radius, opening_angle_deg, segments):
     return walls
 
 
-def _lattice_sites(r, sc, gen, spacing, count, rng):
-    """lattice_sites() of scene.cpp, same loop arithmetic and draw order: a square
-    lattice in x, y (centred on the axis for a cone, from the corner for a region box),
-    layers from the bottom, each site jittered in x and y by up to 0.04 spacing."""
-    in_disk = False
-    disk_radius = 0.0
-    if "region" in gen:
-        f = "particles.generate.region"
-        reg = gen["region"]
-        if not isinstance(reg, dict):
-            r.fail(f, "an object {min, max}", reg)
-        lo = r.vec3(r.required(reg, f, "min", "a point [x, y, z]"), f + ".min")
-        hi = r.vec3(r.required(reg, f, "max", "a point [x, y, z]"), f + ".max")
-        if not all(h - l > 0.0 for l, h in zip(lo, hi)):
-            r.fail(f, "min < max in every coordinate", reg)
-    elif sc.container_type == "cone":
-        in_disk = True
-        disk_radius = sc.bottom_radius - 0.5 * spacing - 0.04 * spacing
-        lo = (-disk_radius, -disk_radius, 0.0)
-        hi = (disk_radius, disk_radius, math.inf)
-    else:
-        r.fail("particles.generate.region", "a region {min, max} (required unless the container is a cone)")
-    sites = []
-    jitter = 0.04 * spacing
-    origin = (0.0, 0.0, lo[2]) if in_disk else (lo[0] + 0.5 * spacing, lo[1] + 0.5 * spacing, lo[2])
-    kx_lo = -int(math.floor(disk_radius / spacing)) if in_disk else 0
-    kx_hi = -kx_lo if in_disk else int(math.floor((hi[0] - lo[0]) / spacing)) - 1
-    ky_hi = -kx_lo if in_disk else int(math.floor((hi[1] - lo[1]) / spacing)) - 1
-    layer = 0
-    while len(sites) < count and layer < 1000000:
-        z = origin[2] + 0.5 * spacing + layer * spacing
-        if z + 0.5 * spacing > hi[2]:
-            break
-        for ky in range(kx_lo, ky_hi + 1):
-            for kx in range(kx_lo, kx_hi + 1):
-                x = origin[0] + kx * spacing
-                y = origin[1] + ky * spacing
-                if in_disk and math.hypot(x, y) > disk_radius:
-                    continue
-                if len(sites) >= count:
-                    break
-                # emplace_back(x + uniform(..), y + uniform(..), z): GCC evaluates these
-                # arguments right to left, so the y jitter is drawn first (checked against
-                # the engine's bodies.csv by compare-methods and the tests).
-                jy = uniform(rng, -jitter, jitter)
-                jx = uniform(rng, -jitter, jitter)
-                sites.append((x + jx, y + jy, z))
-        layer += 1
-    if len(sites) < count:
-        r.fail("particles.generate.count",
-               f"at most {len(sites)} particles (that is what fits in the region at lattice spacing {spacing:f})",
-               gen.get("count"))
-    return sites
+def engine_bodies(path, ratchet=None):
+    """The engine's bodies of the scene file `path`: runs `ratchet bodies PATH --out
+    TMP --quiet` and returns the document it wrote. `ratchet`: the binary (default
+    common.paths.engine_binary(): $RATCHET_BIN, else <$RATCHET_BUILD_DIR or
+    build>/reference_engine/ratchet). A scene the engine refuses raises SceneError with
+    the engine's message (it names the file and the field); a missing binary or another
+    failure raises EngineError."""
+    ratchet = str(ratchet or engine_binary())
+    if not (os.path.isfile(ratchet) and os.access(ratchet, os.X_OK)):
+        raise EngineError(f"engine binary not found or not executable: {ratchet} (build it, or set "
+                          "RATCHET_BUILD_DIR or RATCHET_BIN): the translation takes the bodies from `ratchet bodies`")
+    with tempfile.TemporaryDirectory(prefix="ratchet_bodies_") as tmp:
+        out = os.path.join(tmp, "bodies.json")
+        r = subprocess.run([ratchet, "bodies", path, "--out", out, "--quiet"], capture_output=True, text=True)
+        msg = (r.stderr or r.stdout).strip()
+        if msg.startswith("ratchet: error: "):
+            msg = msg[len("ratchet: error: "):]
+        if r.returncode == 2:
+            raise SceneError(msg)
+        if r.returncode != 0:
+            raise EngineError(f"{ratchet} bodies {path} failed (exit {r.returncode}): {msg}")
+        try:
+            with open(out, "r", encoding="utf-8") as fh:
+                doc = json.load(fh)
+        except (OSError, ValueError) as e:
+            raise EngineError(f"{ratchet} bodies {path}: cannot read the bodies file it wrote: {e}") from None
+    if doc.get("format") != BODIES_FORMAT or doc.get("version") != BODIES_VERSION:
+        raise EngineError(f"{ratchet} bodies {path}: bodies file format {doc.get('format')!r} version "
+                          f"{doc.get('version')!r}; this translator reads {BODIES_FORMAT!r} version {BODIES_VERSION}")
+    return doc
 
 
-def _generated_spheres(r, sc, gen, rng):
-    p = "particles.generate"
-    r.obj(gen, p, ["count", "shape", "vertices", "ellipsoid_axes", "radius_range", "region", "spacing"])
-    count = r.integer(gen, p, "count", 0, 0, 10000000)
-    shape = gen.get("shape", "polyhedron")
-    if shape not in ("polyhedron", "sphere"):
-        r.fail(p + ".shape", "\"polyhedron\" or \"sphere\"", shape)
-    rmin, rmax = 0.5, 1.0
-    if "radius_range" in gen:
-        rr = gen["radius_range"]
-        if (not isinstance(rr, list) or len(rr) != 2 or any(isinstance(a, bool) or not isinstance(a, (int, float))
-                                                            for a in rr)
-                or not rr[0] > 0.0 or not rr[1] >= rr[0] or not math.isfinite(rr[1])):
-            r.fail(p + ".radius_range", "[r_min, r_max] with 0 < r_min <= r_max", rr)
-        rmin, rmax = float(rr[0]), float(rr[1])
-    spacing = r.num(gen, p, "spacing", 2.5 * rmax, 2.3 * rmax, math.inf, False, False,
-                    "a lattice spacing >= 2.3 r_max (sites must not overlap)")
-    if count > 0 and shape != "sphere":
-        r.fail(p + ".shape", "\"sphere\" (the LIGGGHTS translation handles spheres only; "
-               "polyhedra have no counterpart in this soft-sphere DEM)", shape)
-    sites = _lattice_sites(r, sc, gen, spacing, count, rng)
+def spheres_from_bodies(doc, j, source):
+    """The spheres of an engine bodies document, in body order. A polyhedron (generated
+    polyhedra, listed boxes and polyhedra) is refused naming the scene field it came
+    from: generated bodies come first, then the listed ones in list order."""
+    parts = j.get("particles", {}) if isinstance(j, dict) else {}
+    gen = parts.get("generate", {}) if isinstance(parts, dict) else {}
+    n_gen = gen.get("count", 0) if isinstance(gen, dict) else 0
+    listed = parts.get("bodies", []) if isinstance(parts, dict) else []
     out = []
-    for i in range(count):
-        radius = uniform(rng, rmin, rmax)
-        out.append(Sphere(position=sites[i], radius=radius))
+    for b in doc["bodies"]:
+        if b["kind"] != "sphere":
+            i = b["index"]
+            if i < n_gen:
+                raise SceneError(f"{source}: field 'particles.generate.shape': expected \"sphere\" (the LIGGGHTS "
+                                 "translation handles spheres only; polyhedra have no counterpart in this soft-sphere "
+                                 f"DEM), got {json.dumps(gen.get('shape', 'polyhedron'))}")
+            k = i - n_gen
+            got = listed[k].get("shape") if 0 <= k < len(listed) and isinstance(listed[k], dict) else b["kind"]
+            raise SceneError(f"{source}: field 'particles.bodies[{k}].shape': expected \"sphere\" (the LIGGGHTS "
+                             f"translation handles spheres only), got {json.dumps(got)}")
+        out.append(Sphere(position=tuple(float(c) for c in b["position"]), radius=float(b["radius"]),
+                          velocity=tuple(float(c) for c in b["velocity"]),
+                          angular_velocity=tuple(float(c) for c in b["angular_velocity"]),
+                          fixed=bool(b["fixed"])))
     return out
 
 
-def _listed_spheres(r, lst):
-    if not isinstance(lst, list):
-        r.fail("particles.bodies", "a list of bodies", lst)
-    out = []
-    for i, j in enumerate(lst):
-        f = f"particles.bodies[{i}]"
-        r.obj(j, f, ["shape", "radius", "half_extents", "vertices", "position", "orientation", "velocity",
-                     "angular_velocity", "fixed"])
-        shape = j.get("shape", "")
-        if shape != "sphere":
-            r.fail(f + ".shape", "\"sphere\" (the LIGGGHTS translation handles spheres only)", shape)
-        pos = r.vec3(r.required(j, f, "position", "a point [x, y, z]"), f + ".position")
-        r.required(j, f, "radius", "a finite positive number")
-        rad = r.pos(j, f, "radius", 0.0)
-        vel = r.vec3(j["velocity"], f + ".velocity") if "velocity" in j else (0.0, 0.0, 0.0)
-        om = r.vec3(j["angular_velocity"], f + ".angular_velocity") if "angular_velocity" in j else (0.0, 0.0, 0.0)
-        fixed = r.boolean(j, f, "fixed", False)
-        out.append(Sphere(pos, rad, vel, om, fixed))
-    return out
-
-
-def load_scene(path):
-    """Reads and checks a scene file; returns a Scene with every sphere listed."""
+def load_scene(path, ratchet=None):
+    """Reads and checks a scene file; returns a Scene with every sphere, as the engine
+    built them (`ratchet bodies`, see engine_bodies)."""
     try:
         with open(path, "r", encoding="utf-8") as fh:
             text = fh.read()
@@ -362,10 +330,15 @@ def load_scene(path):
         j = loads_json_with_comments(text)
     except ValueError as e:
         raise SceneError(f"{path}: not valid JSON: {e}") from None
-    return build_scene(j, path)
+    sc = build_scene(j, path)
+    sc.bodies_file = engine_bodies(path, ratchet)
+    sc.spheres = spheres_from_bodies(sc.bodies_file, j, path)
+    return sc
 
 
 def build_scene(j, source):
+    """The settings of a scene (JSON already parsed), checked; no bodies (load_scene
+    adds the engine's)."""
     r = _Reader(source)
     r.obj(j, "", ["name", "seed", "gravity", "time", "solver", "materials", "effects", "container",
                   "particles", "thermal", "outputs", "description"])
@@ -461,11 +434,4 @@ def build_scene(j, source):
         r.fail("time.duration", "at least one time step (duration >= dt)", time.get("duration"))
     parts = r.required(j, "", "particles", "an object {generate and/or bodies}")
     r.obj(parts, "particles", ["generate", "bodies"])
-    rng = MT19937_64(seed)
-    if "generate" in parts:
-        sc.spheres.extend(_generated_spheres(r, sc, parts["generate"], rng))
-    if "bodies" in parts:
-        sc.spheres.extend(_listed_spheres(r, parts["bodies"]))
-    if not sc.spheres:
-        r.fail("particles", "at least one body (generate.count > 0 or a bodies list)")
     return sc

@@ -4,10 +4,14 @@
     /usr/bin/python3 -m liggghts.translate SCENE.json --out DIR [--E 5e6] [--restitution 0.2] ...
     (from scripts/, or scripts/liggghts/translate.py SCENE.json --out DIR)
 
+The spheres come from the engine: `ratchet bodies SCENE.json` (binary: $RATCHET_BIN, else
+<$RATCHET_BUILD_DIR or build>/reference_engine/ratchet) writes the bodies exactly as
+`ratchet run` starts from them; the scene's other settings are read by scene.py.
+
 DIR receives
     in.liggghts        the deck (run it from DIR: `liggghts -in in.liggghts`)
-    particles.data     read_data file: the scene's spheres (same positions and radii,
-                       generated ones reproduced with the engine's std::mt19937_64)
+    particles.data     read_data file: the scene's spheres (the positions, radii and
+                       velocities `ratchet bodies` wrote)
     meshes/*.stl       one STL per wall: the floor and each side segment of the cone
                        (two triangles, widened past the corners and below the floor),
                        or one square per plane of a `planes` container
@@ -30,7 +34,7 @@ if __package__ in (None, ""):
 
 from common.fsutil import write_atomic  # noqa: E402
 
-from .scene import SceneError, load_scene  # noqa: E402
+from .scene import EngineError, SceneError, load_scene  # noqa: E402
 from .units import Units, rayleigh_time  # noqa: E402
 
 DECK = "in.liggghts"
@@ -479,6 +483,9 @@ def main(argv=None):
     except SceneError as e:
         print(f"translate: error: {e}", file=sys.stderr)
         return 2
+    except EngineError as e:
+        print(f"translate: error: {e}", file=sys.stderr)
+        return 1
     print(f"translate: {meta['n_particles']} spheres, {len(meta['walls'])} wall meshes, "
           f"{meta['total_steps']} steps of {meta['dt_si']:.4g} s -> {os.path.join(args.out, DECK)}",
           file=sys.stderr)

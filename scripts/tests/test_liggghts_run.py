@@ -1,6 +1,6 @@
 """A real, short LIGGGHTS run of a translated deck (a few seconds): five spheres dropped
-on the floor of an expanding cone, one thermal cycle. Skipped when LIGGGHTS is not
-installed."""
+on the floor of an expanding cone, one thermal cycle. The spheres come from the engine
+(`ratchet bodies`). Skipped when LIGGGHTS is not installed or the engine not built."""
 
 import json
 import math
@@ -14,6 +14,7 @@ import pytest
 
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
+from common.paths import engine_binary  # noqa: E402
 from liggghts.parse import log_completed, parse_run, read_dump, read_meta  # noqa: E402
 from liggghts.scene import load_scene  # noqa: E402
 from liggghts.translate import DemOptions, translate  # noqa: E402
@@ -39,6 +40,8 @@ SCENE = {
 def run(tmp_path_factory):
     if LIGGGHTS is None:
         pytest.skip("liggghts is not installed")
+    if not os.access(engine_binary(), os.X_OK):
+        pytest.skip("engine binary not built")
     d = tmp_path_factory.mktemp("dem")
     p = d / "scene.json"
     p.write_text(json.dumps(SCENE))

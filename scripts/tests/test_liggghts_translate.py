@@ -1,5 +1,6 @@
-"""Tests of the LIGGGHTS translation: mt19937_64, scene reading and particle generation,
-STL geometry, the deck's commands (scripts/liggghts/, docs/liggghts.md)."""
+"""Tests of the LIGGGHTS translation: scene reading, the spheres taken from the engine
+(`ratchet bodies`) and checked against its run, STL geometry, the deck's commands
+(scripts/liggghts/, docs/liggghts.md)."""
 
 import json
 import math
@@ -14,9 +15,8 @@ import pytest
 
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
-from liggghts.mt19937_64 import MT19937_64, uniform, uniform01  # noqa: E402
 from common.paths import engine_binary  # noqa: E402
-from liggghts.scene import SceneError, build_scene, load_scene  # noqa: E402
+from liggghts.scene import EngineError, SceneError, build_scene, engine_bodies, load_scene  # noqa: E402
 from liggghts.translate import (DemOptions, cone_side_quad, quad_triangles, stl_text,  # noqa: E402
                                 translate)
 from liggghts.units import Units, rayleigh_time  # noqa: E402
@@ -24,35 +24,13 @@ from liggghts.units import Units, rayleigh_time  # noqa: E402
 RATCHET = str(engine_binary())
 
 
-# ------------------------------------------------------------------ mt19937_64
 
-def test_mt19937_64_default_seed_first_outputs():
-    rng = MT19937_64()  # seed 5489, like a default-constructed std::mt19937_64
-    assert [rng() for _ in range(5)] == [14514284786278117030, 4620546740167642908, 13109570281517897720,
-                                        17462938647148434322, 355488278567739596]
+def engine_available():
+    return os.path.isfile(RATCHET) and os.access(RATCHET, os.X_OK)
 
 
-def test_mt19937_64_10000th_output_of_the_cpp_standard():
-    rng = MT19937_64(5489)
-    rng.discard(9999)
-    assert rng() == 9981545732273789042  # [rand.predef] of the C++ standard
-
-
-def test_mt19937_64_other_seeds():
-    # Values printed by g++'s std::mt19937_64 (libstdc++).
-    rng = MT19937_64(42)
-    assert [rng() for _ in range(3)] == [13930160852258120406, 11788048577503494824, 13874630024467741450]
-    assert MT19937_64(0)() == 2947667278772165694
-
-
-def test_uniform_mapping_uses_the_top_53_bits():
-    a, b = MT19937_64(7), MT19937_64(7)
-    x = b()
-    assert uniform01(a) == (x >> 11) * 2.0 ** -53
-    a, b = MT19937_64(7), MT19937_64(7)
-    u = uniform01(b)
-    assert uniform(a, -0.5, 2.0) == -0.5 + 2.5 * u
-    assert all(0.0 <= uniform01(a) < 1.0 for _ in range(1000))
+# The spheres of a scene come from the engine binary (`ratchet bodies`).
+needs_engine = pytest.mark.skipif(not engine_available(), reason="engine binary not built")
 
 
 # ------------------------------------------------------------------ scene reading
@@ -69,6 +47,7 @@ def scene_json(**over):
     return j
 
 
+@needs_engine
 def test_a_scene_file_with_comments_is_read(tmp_path):
     # The engine's parser allows // and /* */ comments; so does load_scene (common.jsonc).
     text = json.dumps(scene_json(name="bed // not a comment"), indent=1)
@@ -80,38 +59,8 @@ def test_a_scene_file_with_comments_is_read(tmp_path):
     assert sc.seed == 4
 
 
-def test_generated_spheres_inside_the_cone_and_apart():
-    sc = build_scene(scene_json(), "mem.json")
-    assert len(sc.spheres) == 20
-    pos = np.array([s.position for s in sc.spheres])
-    r = np.array([s.radius for s in sc.spheres])
-    assert r.min() >= 0.5 and r.max() <= 1.0
-    # Inside every wall half-space.
-    for w in sc.walls:
-        d = (pos - np.array(w.point)) @ np.array(w.normal)
-        assert np.all(d >= r - 1e-12)
-    # No overlaps.
-    dist = np.linalg.norm(pos[:, None] - pos[None], axis=2) + np.eye(len(r)) * 1e9
-    assert np.all(dist >= r[:, None] + r[None])
-
-
-def test_generation_is_deterministic_and_seeded():
-    a = build_scene(scene_json(), "a.json").spheres
-    b = build_scene(scene_json(), "b.json").spheres
-    c = build_scene(scene_json(seed=4), "c.json").spheres
-    assert [s.position for s in a] == [s.position for s in b]
-    assert [s.radius for s in a] == [s.radius for s in b]
-    assert [s.radius for s in a] != [s.radius for s in c]
-
-
 @pytest.mark.parametrize("mutate,field", [
-    (lambda j: j["particles"]["generate"].update(shape="polyhedron"), "particles.generate.shape"),
-    (lambda j: j["particles"]["generate"].update(spacing=2.0), "particles.generate.spacing"),
-    (lambda j: j["particles"]["generate"].update(count=10 ** 6, region={"min": [0, 0, 0], "max": [5, 5, 5]}),
-     "particles.generate.count"),
     (lambda j: j["container"].update(opening_angle_deg=50), "container.opening_angle_deg"),
-    (lambda j: j.update(particles={"bodies": [{"shape": "box", "half_extents": [1, 1, 1],
-                                               "position": [0, 0, 2]}]}), "particles.bodies[0].shape"),
     (lambda j: j.update(time={"dt": 0.01}), "time.duration"),
     (lambda j: j.update(gravity=[0, 0]), "gravity"),
     (lambda j: j.update(settle={"ke_ratio": 1e-6, "max_time": 20}), "settle"),  # the deck's schedule is fixed
@@ -122,6 +71,36 @@ def test_scene_errors_name_file_and_field(mutate, field):
     with pytest.raises(SceneError) as e:
         build_scene(j, "bad.json")
     assert str(e.value).startswith(f"bad.json: field '{field}'")
+
+
+@needs_engine
+@pytest.mark.parametrize("mutate,field", [
+    # What only a sphere deck refuses: the engine builds these bodies, the translation does not take them.
+    (lambda j: j["particles"]["generate"].update(shape="polyhedron", count=3), "particles.generate.shape"),
+    (lambda j: j["particles"].update(bodies=[{"shape": "sphere", "radius": 0.5, "position": [0, 0, 9]},
+                                             {"shape": "box", "half_extents": [1, 1, 1], "position": [0, 0, 12]}]),
+     "particles.bodies[1].shape"),
+    # The engine's own errors, passed on as they are.
+    (lambda j: j["particles"]["generate"].update(spacing=2.0), "particles.generate.spacing"),
+    (lambda j: j["particles"]["generate"].update(count=10 ** 6, region={"min": [0, 0, 0], "max": [5, 5, 5]}),
+     "particles.generate.count"),
+    (lambda j: j.update(particles={"bodies": []}), "particles"),
+])
+def test_body_errors_name_file_and_field(tmp_path, mutate, field):
+    j = scene_json()
+    mutate(j)
+    p = tmp_path / "bad.json"
+    p.write_text(json.dumps(j))
+    with pytest.raises(SceneError) as e:
+        load_scene(str(p))
+    assert str(e.value).startswith(f"{p}: field '{field}'"), str(e.value)
+
+
+def test_a_missing_engine_is_not_a_scene_error(tmp_path):
+    p = tmp_path / "s.json"
+    p.write_text(json.dumps(scene_json()))
+    with pytest.raises(EngineError, match="engine binary not found or not executable: .*nope"):
+        load_scene(str(p), ratchet=str(tmp_path / "nope"))
 
 
 def test_load_scene_reports_missing_file_and_bad_json(tmp_path):
@@ -191,6 +170,29 @@ def test_stl_text_facets_have_consistent_normals(tmp_path):
 
 # ------------------------------------------------------------------ the deck
 
+@needs_engine
+def test_listed_spheres_keep_velocities_and_the_fixed_flag(tmp_path):
+    j = scene_json(particles={"bodies": [
+        {"shape": "sphere", "radius": 0.6, "position": [0, 0, 0.7], "velocity": [0.5, 0, -1],
+         "angular_velocity": [0, 2, 0]},
+        {"shape": "sphere", "radius": 0.4, "position": [2, 0, 0.5], "fixed": True}]})
+    p = tmp_path / "listed.json"
+    p.write_text(json.dumps(j))
+    sc = load_scene(str(p))
+    a, b = sc.spheres
+    assert (a.position, a.radius, a.velocity, a.angular_velocity, a.fixed) == (
+        (0.0, 0.0, 0.7), 0.6, (0.5, 0.0, -1.0), (0.0, 2.0, 0.0), False)
+    assert (b.position, b.radius, b.fixed) == ((2.0, 0.0, 0.5), 0.4, True)
+    out = tmp_path / "deck"
+    translate(sc, str(out))
+    data = (out / "particles.data").read_text()
+    u = Units(length=0.01, density_si=2500.0, density_scene=1.0)
+    rows = [[float(x) for x in line.split()] for line in data.split("\nVelocities\n\n")[1].splitlines()]
+    assert rows[0] == [1, 0.5 * u.velocity, 0.0, -1.0 * u.velocity, 0.0, 2.0 / u.time, 0.0]
+    assert rows[1] == [2, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]
+    assert "group           fixed id 2" in (out / "in.liggghts").read_text()
+
+
 def thermal_scene(tmp_path, E_scene=None, **over):
     j = scene_json(thermal={"start_time": 1.0, "heat_time": 2.0, "hold_time": 0.5, "cool_time": 2.0, "cycles": 1,
                             "alpha_p": 1e-4, "alpha_c": 1e-3},
@@ -202,6 +204,7 @@ def thermal_scene(tmp_path, E_scene=None, **over):
     return load_scene(str(p))
 
 
+@needs_engine
 def test_deck_contains_the_expected_fixes(tmp_path):
     sc = thermal_scene(tmp_path)
     out = tmp_path / "deck"
@@ -261,6 +264,7 @@ def test_deck_contains_the_expected_fixes(tmp_path):
         assert [float(x) for x in f[4:7]] == pytest.approx([c * 0.01 for c in s.position], rel=1e-15)
 
 
+@needs_engine
 def test_deck_without_expansion_or_rotation(tmp_path):
     j = scene_json(effects={"rotation": False, "particle_expansion": False, "container_expansion": False},
                    thermal={"heat_time": 1.0, "cycles": 1})
@@ -290,28 +294,31 @@ def test_units():
 
 # ------------------------------------------------------------------ against the engine binary
 
-def engine_available():
-    return os.path.isfile(RATCHET) and os.access(RATCHET, os.X_OK)
-
-
-@pytest.mark.skipif(not engine_available(), reason="engine binary not built")
+@needs_engine
 @pytest.mark.parametrize("gen", [
     {"count": 40, "shape": "sphere", "radius_range": [0.5, 1.0], "spacing": 2.3},
     {"count": 25, "shape": "sphere", "radius_range": [0.3, 0.8],
      "region": {"min": [-3, -2, 0], "max": [3.5, 4, 30]}},
 ])
-def test_generated_particles_match_the_engine(tmp_path, gen):
-    """Positions exactly equal to the engine's step-0 bodies.csv; radii through the
-    kinetic energy after one free-fall step (0.5 (g h)^2 sum m) and the bed height."""
+def test_translated_particles_are_the_engines(tmp_path, gen):
+    """The deck's particles are what `ratchet bodies` wrote, and that is what `ratchet
+    run` starts from: positions exactly equal to the run's step-0 bodies.csv, radii
+    through the bed height at step 0 and the kinetic energy after one free-fall step
+    (0.5 (g h)^2 sum m); particles.data carries the same numbers in SI."""
     j = scene_json(seed=11, particles={"generate": gen})
     j["time"] = {"dt": 0.001, "duration": 0.001}
     p = tmp_path / "gen.json"
     p.write_text(json.dumps(j))
     sc = load_scene(str(p))
+    doc = engine_bodies(str(p))
+    assert doc["format"] == "ratchet-bodies" and doc["version"] == 1 and doc["seed"] == 11
+    assert [s.position for s in sc.spheres] == [tuple(b["position"]) for b in doc["bodies"]]
+    assert [s.radius for s in sc.spheres] == [b["radius"] for b in doc["bodies"]]
+    assert doc["shapes"] == [] and all(b["kind"] == "sphere" and b["shape"] is None for b in doc["bodies"])
+    # Against the run.
     out = tmp_path / "run"
     r = subprocess.run([RATCHET, "run", str(p), "--out", str(out), "--quiet"], capture_output=True, text=True)
-    if r.returncode != 0:
-        pytest.skip(f"engine run failed: {r.stderr.strip()}")
+    assert r.returncode == 0, r.stderr
     b = pd.read_csv(out / "bodies.csv", float_precision="round_trip")
     b0 = b[b["step"] == 0].sort_values("id")
     assert np.array_equal(b0[["x", "y", "z"]].to_numpy(), np.array([s.position for s in sc.spheres]))
@@ -321,3 +328,17 @@ def test_generated_particles_match_the_engine(tmp_path, gen):
     assert ts["bed_height"].iloc[0] == pytest.approx(np.max(z0 + radii), rel=1e-14)
     ke = 0.5 * 0.001 ** 2 * np.sum(4 / 3 * math.pi * radii ** 3)
     assert ts["kinetic_energy"].iloc[-1] == pytest.approx(ke, rel=1e-9)
+    # The run folder carries the same document (with the same bodies).
+    with open(out / "bodies_shapes.json") as fh:
+        assert json.load(fh)["bodies"] == doc["bodies"]
+    # particles.data: diameter and position of every sphere, exactly the engine's x L.
+    deck = tmp_path / "deck"
+    translate(sc, str(deck))
+    lines = (deck / "particles.data").read_text().splitlines()
+    i = lines.index("Atoms") + 2
+    rows = [line.split() for line in lines[i:i + len(doc["bodies"])]]
+    assert len(rows) == len(doc["bodies"])
+    for row, body in zip(rows, doc["bodies"]):
+        assert int(row[0]) == body["index"] + 1
+        assert float(row[2]) == 2.0 * body["radius"] * 0.01
+        assert [float(x) for x in row[4:7]] == [c * 0.01 for c in body["position"]]

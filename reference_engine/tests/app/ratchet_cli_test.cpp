@@ -8,9 +8,12 @@
 #include <filesystem>
 #include <fstream>
 #include <memory>
+#include <sstream>
 #include <string>
 #include <utility>
 #include <vector>
+
+#include <nlohmann/json.hpp>
 
 namespace {
 
@@ -57,7 +60,8 @@ TEST(RatchetCli, RunWritesCompleteOutputs) {
   write(d / "s.json", kScene);
   const Result r = run("run " + (d / "s.json").string() + " --out " + (d / "out").string() + " --quiet");
   ASSERT_EQ(r.status, 0) << r.output;
-  for (const char* f : {"timeseries.csv", "bodies.csv", "run.json"}) EXPECT_TRUE(fs::exists(d / "out" / f)) << f;
+  for (const char* f : {"timeseries.csv", "bodies.csv", "bodies_shapes.json", "run.json"})
+    EXPECT_TRUE(fs::exists(d / "out" / f)) << f;
   for (const auto& e : fs::directory_iterator(d / "out")) EXPECT_NE(e.path().extension(), ".partial");
   std::ifstream in(d / "out" / "run.json");
   std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
@@ -141,6 +145,8 @@ TEST(RatchetCli, PackThenRunFromThePacking) {
   const std::string meta = slurp(d / "out" / "run.json");
   EXPECT_THAT(meta, HasSubstr("\"packing\": {"));
   EXPECT_THAT(meta, HasSubstr("\"reached\": null"));  // no settle section: no threshold
+  // The run folder's bodies file holds the state the run starts from: the packing's.
+  EXPECT_THAT(slurp(d / "out" / "bodies_shapes.json"), HasSubstr("\n  \"step\": 29,\n"));
   EXPECT_EQ(slurp(d / "out" / "bodies.csv").substr(0, 100).find("\n0,0,"), std::string::npos);  // starts at the packing
   r = run("run --explain " + scene + " --packing " + packing);
   EXPECT_EQ(r.status, 0) << r.output;
@@ -254,6 +260,7 @@ TEST(RatchetCli, HelpOfTheProgramAndOfEachCommandOnStdout) {
     const Result r = stdout_of(flag);
     EXPECT_EQ(r.status, 0) << flag;
     for (const char* line : {"usage:", "ratchet run SCENE.json --out DIR", "ratchet pack SCENE.json --out FILE",
+                             "ratchet bodies SCENE.json --out FILE.json",
                              "ratchet sweep SWEEP.json --out DIR [--jobs N]", "ratchet --version | -V | version"})
       EXPECT_THAT(r.output, HasSubstr(line)) << flag;
   }
@@ -262,6 +269,7 @@ TEST(RatchetCli, HelpOfTheProgramAndOfEachCommandOnStdout) {
       {"run", {"ratchet run SCENE.json --out DIR", "ratchet run --explain SCENE.json", "--out DIR", "--packing FILE",
                "--set key.path=value", "--explain", "--quiet"}},
       {"pack", {"ratchet pack SCENE.json --out FILE", "--out FILE", "--set key.path=value", "--quiet"}},
+      {"bodies", {"ratchet bodies SCENE.json --out FILE.json", "--out FILE.json", "--set key.path=value", "--quiet"}},
       {"sweep", {"ratchet sweep SWEEP.json --out DIR [--jobs N]", "--out DIR", "--jobs N"}},
   };
   for (const auto& [command, texts] : commands) {
@@ -372,6 +380,101 @@ TEST(RatchetCli, OutThatIsAFileIsRefusedBeforeAnyWork) {
   // A folder that does not exist yet, several levels deep, is fine.
   EXPECT_EQ(run("run " + (d / "s.json").string() + " --quiet --out " + (d / "new" / "deep").string()).status, 0);
   EXPECT_TRUE(fs::exists(d / "new" / "deep" / "run.json"));
+  fs::remove_all(d);
+}
+
+// Generated spheres in a box region, a listed sphere and a listed box.
+const char* kBodiesScene = R"({
+  "name": "cli_bodies", "seed": 4, "time": {"dt": 0.01, "duration": 0.02},
+  "container": {"type": "planes", "planes": [{"normal": [0, 0, 1], "point": [0, 0, 0]}]},
+  "particles": {
+    "generate": {"count": 6, "shape": "sphere", "region": {"min": [0, 0, 0], "max": [8, 8, 8]}},
+    "bodies": [{"shape": "sphere", "radius": 0.5, "position": [20, 0, 1]},
+               {"shape": "box", "half_extents": [0.5, 0.5, 1], "position": [23, 0, 1]}]}
+})";
+
+// step-0 rows of bodies.csv: id -> (x, y, z, qw, qx, qy, qz), as read back from the text.
+std::vector<std::vector<double>> first_rows(const fs::path& csv) {
+  std::ifstream in(csv);
+  std::string line;
+  std::getline(in, line);  // header: step,t,id,x,y,z,qw,qx,qy,qz,...
+  std::vector<std::vector<double>> rows;
+  while (std::getline(in, line) && line.rfind("0,", 0) == 0) {
+    std::stringstream ss(line);
+    std::string cell;
+    std::vector<double> cells;
+    while (std::getline(ss, cell, ',')) cells.push_back(std::stod(cell));
+    rows.emplace_back(cells.begin() + 3, cells.begin() + 10);
+  }
+  return rows;
+}
+
+TEST(RatchetCli, BodiesWritesTheBodiesTheRunStartsFrom) {
+  const fs::path d = scratch();
+  write(d / "s.json", kBodiesScene);
+  const std::string scene = (d / "s.json").string(), file = (d / "deep" / "b.json").string();
+  Result r = run("bodies " + scene + " --out " + file + " --set seed=9");
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("ratchet: cli_bodies: 8 bodies, 1 shapes -> " + file));
+  EXPECT_FALSE(fs::exists(file + ".partial"));
+  const nlohmann::json doc = nlohmann::json::parse(slurp(file));
+  EXPECT_EQ(doc.at("format"), "ratchet-bodies");
+  EXPECT_EQ(doc.at("version"), 1);
+  EXPECT_EQ(doc.at("seed"), 9);  // the --set applies
+  ASSERT_EQ(doc.at("bodies").size(), 8u);
+  EXPECT_EQ(doc["bodies"][6].at("radius"), 0.5);
+  EXPECT_EQ(doc["bodies"][7].at("kind"), "polyhedron");
+  EXPECT_EQ(doc["bodies"][7].at("shape"), 0);
+  EXPECT_EQ(doc.at("shapes").size(), 1u);
+  EXPECT_EQ(doc["shapes"][0].at("vertices").size(), 8u);
+  // The same scene and --set run: its step-0 rows are the file's bodies, bit for bit,
+  // and its folder holds the same document.
+  r = run("run " + scene + " --out " + (d / "out").string() + " --set seed=9 --quiet");
+  ASSERT_EQ(r.status, 0) << r.output;
+  const auto rows = first_rows(d / "out" / "bodies.csv");
+  ASSERT_EQ(rows.size(), 8u);
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const nlohmann::json& b = doc["bodies"][i];
+    for (int a = 0; a < 3; ++a) EXPECT_EQ(rows[i][a], b["position"][a].get<double>()) << i;
+    for (int a = 0; a < 4; ++a) EXPECT_EQ(rows[i][3 + a], b["orientation"][a].get<double>()) << i;
+  }
+  const nlohmann::json in_run = nlohmann::json::parse(slurp(d / "out" / "bodies_shapes.json"));
+  EXPECT_EQ(in_run.at("bodies"), doc.at("bodies"));
+  EXPECT_EQ(in_run.at("shapes"), doc.at("shapes"));
+  EXPECT_EQ(in_run.at("scene_hash"), doc.at("scene_hash"));
+  // Another seed, other generated bodies.
+  ASSERT_EQ(run("bodies " + scene + " --out " + file + " --quiet").status, 0);
+  EXPECT_NE(nlohmann::json::parse(slurp(file))["bodies"][0].at("position"), doc["bodies"][0].at("position"));
+  fs::remove_all(d);
+}
+
+TEST(RatchetCli, BodiesRefusesBadInputBeforeWritingAnything) {
+  const fs::path d = scratch();
+  write(d / "s.json", kBodiesScene);
+  write(d / "afile", "keep");
+  const std::string scene = (d / "s.json").string(), file = (d / "b.json").string();
+  Result r = run("bodies " + scene + " --out " + file + " --set particles.generate.spacing=0.1");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_THAT(r.output, HasSubstr("field 'particles.generate.spacing'"));
+  EXPECT_FALSE(fs::exists(file));
+  r = run("bodies " + scene);
+  EXPECT_EQ(r.status, 2);
+  EXPECT_THAT(r.output, HasSubstr("--out FILE.json is required"));
+  r = run("bodies " + scene + " --out " + d.string());
+  EXPECT_EQ(r.status, 2);
+  EXPECT_THAT(r.output,
+              HasSubstr("--out " + d.string() + ": expected a file (the bodies file), but it names a folder"));
+  r = run("bodies " + scene + " --out " + (d / "afile" / "b.json").string());
+  EXPECT_EQ(r.status, 2);
+  EXPECT_THAT(r.output, HasSubstr("expected a file in a folder that exists or can be created"));
+  r = run("bodies a.json b.json --out x.json");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_THAT(r.output, HasSubstr("more than one scene file given ('a.json', 'b.json')"));
+  r = run("bodies " + scene + " --out " + file + " --explain");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_THAT(r.output, HasSubstr("unknown option '--explain'"));
+  EXPECT_FALSE(fs::exists(file));
+  EXPECT_EQ(slurp(d / "afile"), "keep");
   fs::remove_all(d);
 }
 

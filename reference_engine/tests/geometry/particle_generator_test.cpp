@@ -89,6 +89,37 @@ TEST(EllipsoidParticleGenerator, ConsumesOneRadiusAndTwoDrawsPerVertex) {
   EXPECT_EQ(rng, reference);
 }
 
+// Four vertices give slivers now and then (a tetrahedron of nearly coplanar points):
+// they are drawn again, so every particle has an inradius of at least 5 % of r, and the
+// count says how many were redrawn.
+TEST(EllipsoidParticleGenerator, SliversAreDrawnAgain) {
+  EllipsoidParticleSpec spec;
+  spec.vertices = 4;
+  Rng rng(7);
+  int redrawn = 0;
+  double thinnest = HUGE_VAL;
+  for (int i = 0; i < 2000; ++i) {
+    double r = 0.0;
+    const auto p = generate_ellipsoid_particle(spec, rng, &r, &redrawn);
+    thinnest = std::min(thinnest, p.shape.min_face_offset / r);
+  }
+  EXPECT_GE(thinnest, kMinInradius);
+  EXPECT_GT(redrawn, 0);      // 4-vertex hulls below 5 % of r are common enough in 2000
+  EXPECT_LT(redrawn, 2000);   // but far from the rule
+}
+
+// The paper's 20-vertex hulls are never slivers: no redraw, so the stream of numbers
+// and every particle are what they were before the rule.
+TEST(EllipsoidParticleGenerator, ThePapersParticlesAreNeverRedrawn) {
+  const EllipsoidParticleSpec spec;
+  Rng rng(2024), reference(2024);
+  int redrawn = 0;
+  for (int i = 0; i < 2000; ++i) generate_ellipsoid_particle(spec, rng, nullptr, &redrawn);
+  EXPECT_EQ(redrawn, 0);
+  reference.discard(2000 * (1 + 2 * 20));
+  EXPECT_EQ(rng, reference);
+}
+
 TEST(EllipsoidParticleGenerator, RejectsBadSpec) {
   Rng rng(1);
   auto rejects = [&](auto change) {

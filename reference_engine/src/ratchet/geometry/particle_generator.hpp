@@ -23,7 +23,15 @@ struct EllipsoidParticleSpec {
 // a fixed order (r, then two draws per vertex), so the sequence of particles is fixed
 // by the seed. The body frame is centred on the hull's centroid, not the ellipsoid's
 // centre, so shape.bounding_radius may exceed r slightly (by at most |centroid|).
+//
+// Slivers are drawn again: a hull whose inradius about its centroid is below
+// kMinInradius r (a plate, possible with few vertices) is discarded and the whole
+// particle drawn again from the following numbers, at most kMaxRedraws times
+// (then std::invalid_argument); *redrawn, if given, is increased by the redraws. The
+// paper's 20-vertex hulls have an inradius near 0.7 r and are never redrawn.
+constexpr double kMinInradius = 0.05;
+constexpr int kMaxRedraws = 100;
 PolyhedronBuild generate_ellipsoid_particle(const EllipsoidParticleSpec& spec, Rng& rng,
-                                            double* radius_out = nullptr);
+                                            double* radius_out = nullptr, int* redrawn = nullptr);
 
 }  // namespace ratchet

@@ -25,7 +25,8 @@ bool is_run_output(const std::string& name) {
     return name.size() >= tail.size() && name.compare(name.size() - tail.size(), tail.size(), tail) == 0;
   };
   const std::string base = ends_with(".partial") ? name.substr(0, name.size() - 8) : name;
-  if (base == "timeseries.csv" || base == "bodies.csv" || base == "cycles.csv" || base == "wall_profile.csv")
+  if (base == "timeseries.csv" || base == "bodies.csv" || base == "cycles.csv" || base == "wall_profile.csv" ||
+      base == "bodies_shapes.json")
     return true;
   return base.rfind("displacement_", 0) == 0 && base.size() > 17 && base.compare(base.size() - 4, 4, ".csv") == 0;
 }

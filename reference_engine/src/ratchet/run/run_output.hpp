@@ -33,7 +33,7 @@ class RunOutput {
 };
 
 // Removes from `dir` what an earlier run wrote there: run.json first (the folder no longer
-// looks complete), then timeseries.csv, bodies.csv, cycles.csv, wall_profile.csv,
+// looks complete), then timeseries.csv, bodies.csv, bodies_shapes.json, cycles.csv, wall_profile.csv,
 // displacement_<a>_<b>.csv (and their .partial files), and in vtk/ the snapshots
 // particles_*, contacts_*, container_* (.vtp, or .vtk of older versions) and the .pvd
 // indexes. Other files are left alone. Returns the paths removed.

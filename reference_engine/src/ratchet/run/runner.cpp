@@ -13,6 +13,8 @@
 #include <optional>
 #include <vector>
 
+#include "ratchet/geometry/particle_generator.hpp"
+#include "ratchet/io/bodies_file.hpp"
 #include "ratchet/observe/energy.hpp"
 #include "ratchet/run/observers.hpp"
 #include "ratchet/run/packing.hpp"
@@ -74,6 +76,9 @@ RunResult run_world(World& world, const RunOptions& options, const std::function
   if (!options.out_dir.empty()) {
     std::filesystem::create_directories(options.out_dir);
     remove_previous_outputs(options.out_dir);
+    // The bodies and their shapes as the run starts: the folder is self-contained
+    // (docs/output-format.md, "Bodies and shapes").
+    write_bodies_file(options.out_dir + "/" + kBodiesFileName, world.scene(), world.state());
   }
   RunObservers observers(world, options.out_dir);
   std::unique_ptr<RunOutput> out;
@@ -189,6 +194,12 @@ RunResult run_world(World& world, const RunOptions& options, const std::function
                   static_cast<long long>(world.stats().unconverged_steps), static_cast<long long>(r.steps),
                   scene.solver.max_iterations, static_cast<long long>(first_capped), first_capped_t,
                   first_capped_residual, scene.solver.tolerance);
+    r.warnings.push_back(text);
+  }
+  if (scene.redrawn_particles > 0) {
+    const std::string text = std::to_string(scene.redrawn_particles) +
+                             " generated particle(s) were slivers (inradius below " + std::to_string(kMinInradius) +
+                             " of their radius) and were drawn again: particles.generate.vertices is low";
     r.warnings.push_back(text);
   }
   if (first_fast >= 0) {

@@ -387,8 +387,8 @@ std::vector<Vec3> lattice_sites(const Reader& r, const SceneDef& s, const json& 
         if (in_disk && std::hypot(x, y) > disk_radius) continue;
         if (static_cast<int>(sites.size()) >= count) break;
         // Named draws: the order of evaluation of function arguments is unspecified in
-        // C++; y first is the order of the first engine version (and of the LIGGGHTS
-        // translator's copy of this generator, scripts/liggghts/scene.py).
+        // C++; y first is the order of the first engine version (the LIGGGHTS translator
+        // takes the bodies from `ratchet bodies`, so it needs no copy of this order).
         const double jy = uniform(rng, -jitter, jitter);
         const double jx = uniform(rng, -jitter, jitter);
         sites.emplace_back(x + jx, y + jy, z);
@@ -435,7 +435,13 @@ void read_generated(const Reader& r, const json& gen, SceneDef& s, Rng& rng) {
       set_sphere_mass(b, s.materials.density);
       s.bodies.push_back(b);
     } else {
-      const PolyhedronBuild build = generate_ellipsoid_particle(spec, rng);
+      PolyhedronBuild build;
+      try {
+        build = generate_ellipsoid_particle(spec, rng, nullptr, &s.redrawn_particles);
+      } catch (const std::invalid_argument& e) {
+        r.fail(p + ".vertices", std::string("enough vertices for a solid particle (") + e.what() + ")",
+               gen.contains("vertices") ? &gen.at("vertices") : nullptr);
+      }
       b.orientation = uniform_rotation(rng);
       add_polyhedron_body(s, build, b);
     }

@@ -136,6 +136,7 @@ struct SettleDef {
 
 struct SceneDef {
   std::string source;        // file the scene came from (for messages)
+  int redrawn_particles = 0; // slivers the generator drew again (geometry/particle_generator.hpp)
   std::string name;
   std::uint64_t seed = 1;
   Vec3 gravity = Vec3(0.0, 0.0, -1.0);
