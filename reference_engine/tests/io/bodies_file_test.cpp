@@ -6,6 +6,8 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include "support/test_files.hpp"
+
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -16,16 +18,11 @@
 
 namespace ratchet {
 namespace {
+using test::bits;
 
 namespace fs = std::filesystem;
 using nlohmann::json;
 using ::testing::HasSubstr;
-
-std::uint64_t bits(double x) {
-  std::uint64_t b;
-  std::memcpy(&b, &x, 8);
-  return b;
-}
 
 // Four generated spheres, then a fixed sphere with a velocity, a box and a tetrahedron.
 SceneDef sample_scene() {

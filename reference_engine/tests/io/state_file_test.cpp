@@ -5,6 +5,8 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include "support/test_files.hpp"
+
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -12,15 +14,10 @@
 
 namespace ratchet {
 namespace {
+using test::bits;
 
 namespace fs = std::filesystem;
 using ::testing::HasSubstr;
-
-std::uint64_t bits(double x) {
-  std::uint64_t b;
-  std::memcpy(&b, &x, 8);
-  return b;
-}
 
 // Values whose bits a text round trip or a careless copy would change.
 StateFile sample() {

@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include "support/test_files.hpp"
+
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -15,24 +17,11 @@
 
 namespace ratchet {
 namespace {
+using test::read_text;
 
 namespace fs = std::filesystem;
 
-fs::path temp_dir() {
-  const fs::path d = fs::temp_directory_path() /
-                     ("ratchet_pvd_" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()) +
-                      ::testing::UnitTest::GetInstance()->current_test_info()->name());
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
-
-std::string read_text(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+fs::path temp_dir() { return test::fresh_dir("ratchet_pvd"); }
 
 TEST(PvdWriter, ListsEveryEntryWithItsExactTime) {
   const fs::path d = temp_dir();

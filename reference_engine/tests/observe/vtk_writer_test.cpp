@@ -6,6 +6,8 @@
 
 #include <gtest/gtest.h>
 
+#include "support/test_files.hpp"
+
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -18,24 +20,11 @@
 
 namespace ratchet {
 namespace {
+using test::read_text;
 
 namespace fs = std::filesystem;
 
-fs::path temp_dir() {
-  const fs::path d = fs::temp_directory_path() /
-                     ("ratchet_vtk_" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()) +
-                      ::testing::UnitTest::GetInstance()->current_test_info()->name());
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
-
-std::string read_text(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+fs::path temp_dir() { return test::fresh_dir("ratchet_vtk"); }
 
 // A minimal reader of the XML this writer produces: every element's attributes, and
 // each DataArray's numbers under its section (FieldData, PointData, CellData, Points,

@@ -10,7 +10,7 @@
 #include <limits>
 #include <sstream>
 
-#include "file_lines.hpp"
+#include "support/test_files.hpp"
 
 namespace ratchet {
 namespace {

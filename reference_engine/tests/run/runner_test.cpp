@@ -8,7 +8,7 @@
 #include <filesystem>
 #include <fstream>
 
-#include "file_lines.hpp"
+#include "support/test_files.hpp"
 
 namespace ratchet {
 namespace {

@@ -14,11 +14,12 @@
 #include <string>
 #include <vector>
 
-#include "file_lines.hpp"
+#include "support/test_files.hpp"
 #include "ratchet/run/runner.hpp"
 
 namespace ratchet {
 namespace {
+using test::read_text;
 
 namespace fs = std::filesystem;
 using nlohmann::json;
@@ -43,13 +44,6 @@ fs::path scratch(const std::string& name) {
   const fs::path d = fs::temp_directory_path() / ("ratchet_vtk_snapshots_" + name);
   fs::remove_all(d);
   return d;
-}
-
-std::string read_text(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
 }
 
 struct Indexed {
