@@ -369,5 +369,25 @@ TEST(Scene, LoadReportsSyntaxErrorsAndMissingFiles) {
   EXPECT_THROW(load_scene("/nonexistent/scene.json"), SceneError);
 }
 
+// Inputs the scene fuzzer found (tests/fuzz_findings/README.md): each is a clear
+// SceneError naming the file, never another exception or a hang.
+TEST(SceneFuzzFindings, AreSceneErrors) {
+  const std::string dir = RATCHET_FUZZ_FINDINGS;
+  try {
+    load_scene(dir + "/scene_json_number_overflow.json");
+    ADD_FAILURE() << "accepted";
+  } catch (const SceneError& e) {
+    EXPECT_NE(std::string(e.what()).find("scene_json_number_overflow.json: not valid JSON"), std::string::npos)
+        << e.what();
+  }
+  try {
+    load_scene(dir + "/scene_lattice_int_overflow.json");
+    ADD_FAILURE() << "accepted";
+  } catch (const SceneError& e) {
+    EXPECT_NE(std::string(e.what()).find("field 'particles.generate.region': expected at most 10^6 lattice sites"),
+              std::string::npos) << e.what();
+  }
+}
+
 }  // namespace
 }  // namespace ratchet

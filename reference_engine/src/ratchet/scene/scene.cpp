@@ -375,13 +375,20 @@ std::vector<Vec3> lattice_sites(const Reader& r, const SceneDef& s, const json& 
   // it, so each particle's bounding sphere is inside the bottom polygon), from the
   // corner for a region box.
   const Vec3 origin = in_disk ? Vec3(0.0, 0.0, lo.z()) : Vec3(lo.x() + 0.5 * spacing, lo.y() + 0.5 * spacing, lo.z());
+  // Sites per row: a region or cone far wider than the spacing would overflow the
+  // indices (and the loop would take forever); no bed needs a million per row.
+  const double per_row = (in_disk ? 2.0 * disk_radius : std::max(hi.x() - lo.x(), hi.y() - lo.y())) / spacing;
+  if (!(per_row <= 1e6))
+    r.fail(in_disk ? "container.bottom_radius" : "particles.generate.region",
+           "at most 10^6 lattice sites per row at spacing " + std::to_string(spacing) + " (got " +
+               std::to_string(per_row) + ")");
   const int kx_lo = in_disk ? -static_cast<int>(std::floor(disk_radius / spacing)) : 0;
   const int kx_hi = in_disk ? -kx_lo : static_cast<int>(std::floor((hi.x() - lo.x()) / spacing)) - 1;
   const int ky_hi = in_disk ? -kx_lo : static_cast<int>(std::floor((hi.y() - lo.y()) / spacing)) - 1;
   for (int layer = 0; static_cast<int>(sites.size()) < count && layer < 1000000; ++layer) {
     const double z = origin.z() + 0.5 * spacing + layer * spacing;
     if (z + 0.5 * spacing > hi.z()) break;
-    for (int ky = kx_lo; ky <= ky_hi; ++ky)
+    for (int ky = kx_lo; ky <= ky_hi && static_cast<int>(sites.size()) < count; ++ky)
       for (int kx = kx_lo; kx <= kx_hi; ++kx) {
         const double x = origin.x() + kx * spacing, y = origin.y() + ky * spacing;
         if (in_disk && std::hypot(x, y) > disk_radius) continue;
@@ -656,7 +663,7 @@ SceneDef load_scene(const std::string& path, const std::vector<std::string>& ove
     try {
       const json unused = json::parse(again, nullptr, true, true);
       (void)unused;
-    } catch (const json::parse_error& e) {
+    } catch (const json::exception& e) {  // parse_error, or out_of_range for a number beyond a double
       throw SceneError(path + ": not valid JSON: " + e.what());
     }
     throw SceneError(path + ": not valid JSON");
