@@ -218,6 +218,18 @@ const std::string kMarginReason =
     "before it closes; what overlap is left comes from rotation within a step and the relaxation closing "
     "p_gap of it per step: at most the margin";
 
+// The bounds of a bed released at rest without overlap (see above): it completes, gains
+// no energy beyond the margin's, is never faster than E0 allows nor deeper than the
+// margin, and every capped step is counted.
+void check_released_pour(const std::string& name, const Outcome& o) {
+  EXPECT_TRUE(check_completed(name, o));
+  EXPECT_TRUE(check_energy_gain(name, o));
+  EXPECT_TRUE(validation::check_le(name, "max kinetic energy", o.ke_max, o.e0,
+                                   "released at rest without overlap: at most E0 = sum m g z(0)"));
+  EXPECT_TRUE(validation::check_le(name, "deepest overlap over the run", o.overlap_max, 0.05, kMarginReason));
+  EXPECT_EQ(o.unconverged, o.capped_seen);
+}
+
 class Pour : public ::testing::TestWithParam<PourCase> {};
 
 TEST_P(Pour, CompletesWithEnergyBelowTheInitialPotentialAndShallowOverlaps) {
@@ -276,12 +288,7 @@ TEST(HardCases, TetrahedraPourHasNoSliverAndCompletes) {
                                  ">= " + validation::format_number(kMinInradius), "-", thinnest >= kMinInradius,
                                  "the generator redraws hulls with inradius below 0.05 r: none may be flatter (" +
                                      std::to_string(redrawn) + " redraws in all)"));
-  EXPECT_TRUE(check_completed(name, o));
-  EXPECT_TRUE(check_energy_gain(name, o));
-  EXPECT_TRUE(validation::check_le(name, "max kinetic energy", o.ke_max, o.e0,
-                                   "released at rest without overlap: at most E0 = sum m g z(0)"));
-  EXPECT_TRUE(validation::check_le(name, "deepest overlap over the run", o.overlap_max, 0.05, kMarginReason));
-  EXPECT_EQ(o.unconverged, o.capped_seen);
+  check_released_pour(name, o);
 }
 
 // Spheres below, boxes and octahedra above: every pair type (sphere-sphere,
@@ -302,12 +309,7 @@ TEST(HardCases, MixedSpheresAndPolyhedraPourCompletes) {
   j["particles"]["bodies"] = bodies;
   const std::string name = "hard_pour_mixed";
   const Outcome o = run_scene(j);
-  EXPECT_TRUE(check_completed(name, o));
-  EXPECT_TRUE(check_energy_gain(name, o));
-  EXPECT_TRUE(validation::check_le(name, "max kinetic energy", o.ke_max, o.e0,
-                                   "released at rest without overlap: at most E0 = sum m g z(0)"));
-  EXPECT_TRUE(validation::check_le(name, "deepest overlap over the run", o.overlap_max, 0.05, kMarginReason));
-  EXPECT_EQ(o.unconverged, o.capped_seen);
+  check_released_pour(name, o);
 }
 
 // Two sweeps a step: the solver stops unconverged; the run must still complete, finite,

@@ -351,6 +351,15 @@ int write_bodies(const SceneArgs& a) {
   }
 }
 
+// --set key.path=value, as every scene command takes it.
+void add_set_option(CLI::App* command, std::vector<std::string>& overrides) {
+  command->add_option("--set", overrides, "override a scene field before checking; repeatable, applied in order")
+      ->type_name("key.path=value")
+      ->expected(1)  // one value per --set: the scene path after it stays a path
+      ->allow_extra_args(false)
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+}
+
 }  // namespace
 
 int ratchet_cli_main(int argc, char** argv) {
@@ -382,12 +391,7 @@ int ratchet_cli_main(int argc, char** argv) {
       ->type_name("DIR");
   run->add_option("--packing", run_args.packing, "start from this settled packing (made by ratchet pack)")
       ->type_name("FILE");
-  run->add_option("--set", run_args.overrides,
-                  "override a scene field before checking; repeatable, applied in order")
-      ->type_name("key.path=value")
-      ->expected(1)  // one value per --set: the scene path after it stays a path
-      ->allow_extra_args(false)
-      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+  add_set_option(run, run_args.overrides);
   run->add_flag("--explain", run_args.explain, "print the steps' phases and why, write nothing (--out is ignored)");
   run->add_flag("--quiet", run_args.quiet, "no progress line and no closing summary line");
 
@@ -397,11 +401,7 @@ int ratchet_cli_main(int argc, char** argv) {
   pack->add_option("--out", pack_args.out,
                    "the packing file (required); its folder is created if missing; not a folder")
       ->type_name("FILE");
-  pack->add_option("--set", pack_args.overrides, "override a scene field before checking; repeatable")
-      ->type_name("key.path=value")
-      ->expected(1)
-      ->allow_extra_args(false)
-      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+  add_set_option(pack, pack_args.overrides);
   pack->add_flag("--quiet", pack_args.quiet, "no progress line and no closing line");
 
   CLI::App* bodies = app.add_subcommand(
@@ -412,11 +412,7 @@ int ratchet_cli_main(int argc, char** argv) {
   bodies->add_option("--out", bodies_args.out,
                      "the JSON file (required), written atomically; its folder is created if missing; not a folder")
       ->type_name("FILE.json");
-  bodies->add_option("--set", bodies_args.overrides, "override a scene field before checking; repeatable")
-      ->type_name("key.path=value")
-      ->expected(1)
-      ->allow_extra_args(false)
-      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+  add_set_option(bodies, bodies_args.overrides);
   bodies->add_flag("--quiet", bodies_args.quiet, "no closing line");
 
   std::string sweep_file, sweep_out, jobs_text;
