@@ -534,7 +534,9 @@ def test_the_stored_headline_carries_each_checks_status_and_fit(tmp_path):
     # One realization per angle: the halving is not resolved, and the stored row says so.
     assert rows[("pmax_ratio_6_0", "P_max(6 deg)/P_max(0 deg)")]["status"] == "unresolved"
     fit = rows[("pmax_ratio_quadratic_r2", "P_max quadratic R^2 vs alpha_c/alpha_p")]["fit"]
-    assert fit["coefficients"][2] == pytest.approx(0.04, rel=0.2)  # rising_quadratic's x^2
+    # rising_quadratic's x^2 coefficient; 20 %: 2 % noise on 3 realizations at 5 ratios
+    # leaves the fitted curvature a few per cent off, 20 % still tells it from 0.
+    assert fit["coefficients"][2] == pytest.approx(0.04, rel=0.2)
 
 
 # --------------------------------------------------------------------------- plots

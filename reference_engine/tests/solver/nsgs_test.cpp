@@ -166,6 +166,7 @@ PushCase push_off_the_floor(double g_h, double cap, bool friction) {
 TEST(Nsgs, AnUnloadedCompliantOverlapLeavesAtTheCappedSpeed) {
   for (bool friction : {false, true}) {
     // Spring law alone: lambda = (5 + gh) / 1.1, u = 5 - 0.1 lambda = 4.58.
+    // 1e-12: one contact, solved exactly by the local law; the sweep stops at 1e-14.
     const PushCase free = push_off_the_floor(0.04, 0.0, friction);
     EXPECT_NEAR(free.v, 5.0 - 0.1 * 5.04 / 1.1, 1e-12);
     // Capped at 0.5: the rigid law u = 0.5 pushes less (lambda 0.54 < 4.58).

@@ -134,7 +134,8 @@ TEST(World, MaxOverlapIsTheDeepestContactAndShrinksByPGapPerStep) {
   deep.step();
   EXPECT_NEAR(deep.stats().max_overlap, 0.1, 1e-12);
   deep.step();
-  EXPECT_NEAR(deep.stats().max_overlap, 0.1 - std::sqrt(2.0 * 0.1) * 0.01, 1e-12);  // the capped speed
+  // The capped speed for one step; 1e-12: round-off of the geometry, as above.
+  EXPECT_NEAR(deep.stats().max_overlap, 0.1 - std::sqrt(2.0 * 0.1) * 0.01, 1e-12);
   World apart(build_scene(json::parse(R"({
     "name": "apart", "time": {"dt": 0.01, "duration": 0.05}, "effects": {"gravity": false},
     "container": {"type": "planes", "planes": [{"normal": [0, 0, 1], "point": [0, 0, 0]}]},

@@ -18,28 +18,31 @@ std::string format_double(double x) {
 
 namespace {
 
+bool ends_with(const std::string& name, const std::string& tail) {
+  return name.size() >= tail.size() && name.compare(name.size() - tail.size(), tail.size(), tail) == 0;
+}
+
+// A file's name without the ".partial" of an unfinished atomic write.
+std::string without_partial(const std::string& name) {
+  return ends_with(name, ".partial") ? name.substr(0, name.size() - 8) : name;
+}
+
 // The files a run writes (docs/output-format.md), final and .partial: an earlier run's
 // would sit beside this run's .partial files and make the folder look complete.
 bool is_run_output(const std::string& name) {
-  auto ends_with = [&](const std::string& tail) {
-    return name.size() >= tail.size() && name.compare(name.size() - tail.size(), tail.size(), tail) == 0;
-  };
-  const std::string base = ends_with(".partial") ? name.substr(0, name.size() - 8) : name;
+  const std::string base = without_partial(name);
   if (base == "timeseries.csv" || base == "bodies.csv" || base == "cycles.csv" || base == "wall_profile.csv" ||
       base == "bodies_shapes.json")
     return true;
-  return base.rfind("displacement_", 0) == 0 && base.size() > 17 && base.compare(base.size() - 4, 4, ".csv") == 0;
+  return base.rfind("displacement_", 0) == 0 && base.size() > 17 && ends_with(base, ".csv");
 }
 
 // vtk/: the snapshots (.vtp; .vtk of older versions) and the .pvd indexes, final or .partial.
-bool is_vtk_output(std::string name) {
-  const std::string partial = ".partial";
-  if (name.size() > partial.size() && name.compare(name.size() - partial.size(), partial.size(), partial) == 0)
-    name.resize(name.size() - partial.size());
-  if (name == "particles.pvd" || name == "contacts.pvd" || name == "container.pvd") return true;
-  auto ends = [&](const char* ext) { return name.size() > 4 && name.compare(name.size() - 4, 4, ext) == 0; };
-  return (ends(".vtp") || ends(".vtk")) &&
-         (name.rfind("particles_", 0) == 0 || name.rfind("contacts_", 0) == 0 || name.rfind("container_", 0) == 0);
+bool is_vtk_output(const std::string& name) {
+  const std::string base = without_partial(name);
+  if (base == "particles.pvd" || base == "contacts.pvd" || base == "container.pvd") return true;
+  return (ends_with(base, ".vtp") || ends_with(base, ".vtk")) &&
+         (base.rfind("particles_", 0) == 0 || base.rfind("contacts_", 0) == 0 || base.rfind("container_", 0) == 0);
 }
 
 }  // namespace

@@ -22,9 +22,11 @@ std::string unphysical_state(const World& world) {
   // centre behind any of them by more than the body's own size is outside it.
   std::string names;
   int outside = 0;
+  double r_min = std::numeric_limits<double>::infinity();  // smallest free body, for the overlap bound
   for (int i = 0; i < n; ++i) {
     const BodyDef& b = scene.bodies[static_cast<std::size_t>(i)];
     if (b.fixed) continue;
+    r_min = std::min(r_min, b.bounding_radius * world.body_scale(i));
     const double reach = b.bounding_radius * world.body_scale(i) + margin;
     for (int w = 0; w < nw; ++w) {
       const WallDef& wall = scene.container.walls[static_cast<std::size_t>(w)];
@@ -45,10 +47,6 @@ std::string unphysical_state(const World& world) {
            (outside > kNamed ? ", ..." : "");
   // An overlap deeper than the smallest body's bounding radius: one body inside another
   // or inside a wall, which no contact law recovers from.
-  double r_min = std::numeric_limits<double>::infinity();
-  for (int i = 0; i < n; ++i)
-    if (!scene.bodies[static_cast<std::size_t>(i)].fixed)
-      r_min = std::min(r_min, scene.bodies[static_cast<std::size_t>(i)].bounding_radius * world.body_scale(i));
   const double deepest = world.stats().max_overlap;
   if (deepest > r_min) {
     for (const SolverContact& c : world.contacts()) {
