@@ -1,6 +1,7 @@
 // ratchet: the command-line program of the NSCD reference engine (docs/cli.md).
 //   ratchet run SCENE.json --out DIR [--packing FILE] [--set key.path=value ...] [--quiet]
 //   ratchet run --explain SCENE.json [--packing FILE] [--set ...]
+//   ratchet run --resume DIR [--quiet]
 //   ratchet pack SCENE.json --out FILE [--set key.path=value ...] [--quiet]
 //   ratchet bodies SCENE.json --out FILE.json [--set key.path=value ...] [--quiet]
 //   ratchet sweep SWEEP.json --out DIR [--jobs N]
@@ -13,6 +14,7 @@
 #include <chrono>
 #include <cstdio>
 #include <cstring>
+#include <fstream>
 #include <iostream>
 #include <map>
 #include <optional>
@@ -33,9 +35,11 @@
 #include "ratchet/io/bodies_file.hpp"
 #include "ratchet/io/state_file.hpp"
 #include "ratchet/observe/energy.hpp"
+#include "ratchet/run/checkpoint.hpp"
 #include "ratchet/run/packing.hpp"
 #include "ratchet/run/run_output.hpp"
 #include "ratchet/run/runner.hpp"
+#include "ratchet/run/stop_request.hpp"
 #include "ratchet/run/sweep.hpp"
 #include "ratchet/scene/scene.hpp"
 #include "ratchet/world/world.hpp"
@@ -51,7 +55,8 @@ const char* kVersion = "ratchet " RATCHET_VERSION " (" RATCHET_BUILD_TYPE ")";
 const std::map<std::string, std::string> kSynopsis = {
     {"run",
      "  ratchet run SCENE.json --out DIR [--packing FILE] [--set key.path=value ...] [--quiet]\n"
-     "  ratchet run --explain SCENE.json [--packing FILE] [--set key.path=value ...]\n"},
+     "  ratchet run --explain SCENE.json [--packing FILE] [--set key.path=value ...]\n"
+     "  ratchet run --resume DIR [--quiet]\n"},
     {"pack", "  ratchet pack SCENE.json --out FILE [--set key.path=value ...] [--quiet]\n"},
     {"bodies", "  ratchet bodies SCENE.json --out FILE.json [--set key.path=value ...] [--quiet]\n"},
     {"sweep", "  ratchet sweep SWEEP.json --out DIR [--jobs N]\n"},
@@ -66,6 +71,9 @@ const char* kUsage =
     "      DIR/run.json; with --packing, start from that settled packing (made by ratchet pack)\n"
     "  ratchet run --explain SCENE.json [--packing FILE] [--set key.path=value ...]\n"
     "      print the phases the scene will run and why, then exit\n"
+    "  ratchet run --resume DIR [--quiet]\n"
+    "      continue a run stopped by SIGINT/SIGTERM or killed, from DIR/checkpoint.state; the\n"
+    "      result is the same, byte for byte, as if it had never stopped\n"
     "  ratchet pack SCENE.json --out FILE [--set key.path=value ...] [--quiet]\n"
     "      pour and settle the bed (until settle.ke_ratio, or up to thermal.start_time without a\n"
     "      settle section); write the packing to FILE\n"
@@ -199,14 +207,24 @@ int sweep(const std::string& sweep_path, const std::string& out_dir, int jobs) {
       if (static_cast<int>(k % static_cast<std::size_t>(size)) == rank) my_packings.push_back(needed[k]);
     if (!plan.packings.empty()) ratchet::make_packings(plan, my_packings, jobs, say);
     if (mpi) MPI_Barrier(MPI_COMM_WORLD);
+    // From here SIGINT/SIGTERM stop each run at a checkpoint (the packings before are
+    // written atomically and made again when damaged: a signal there ends the process).
+    ratchet::install_stop_handlers();
     ratchet::run_sweep(plan, mine, jobs, say);
+    if (const int sig = ratchet::stop_signal(); sig != 0) {
+      std::cerr << who << "stopped by " << ratchet::signal_name(sig)
+                << "; the runs under way kept their checkpoints: run the same command again to resume\n";
+      status = 128 + sig;
+    }
     if (mpi) MPI_Barrier(MPI_COMM_WORLD);
     if (rank == 0) {
       ratchet::write_sweep_summary(plan);
       std::cerr << who << "summary in " << out_dir << "/summary.csv\n";
-      for (const auto& run : plan.runs)
-        if (!ratchet::run_completed(plan, run)) status = 1;
-      if (status != 0) std::cerr << who << "some runs did not complete (status 'missing' in summary.csv)\n";
+      if (status == 0) {  // a stopped sweep has said so
+        for (const auto& run : plan.runs)
+          if (!ratchet::run_completed(plan, run)) status = 1;
+        if (status != 0) std::cerr << who << "some runs did not complete (status 'missing' in summary.csv)\n";
+      }
     }
   } catch (const ratchet::SceneError& e) {
     std::cerr << "ratchet: error: " << e.what() << "\n";
@@ -225,13 +243,65 @@ int sweep(const std::string& sweep_path, const std::string& out_dir, int jobs) {
 // What `run` and `pack` were given.
 struct SceneArgs {
   std::string scene;
-  std::string out, packing;
+  std::string out, packing, resume;
   std::vector<std::string> overrides;
   bool explain = false, quiet = false;
 };
 
+// A run stopped by a signal: where it stands, and the conventional status 128 + signal.
+int interrupted(const ratchet::RunInterrupted& e, const std::string& out_dir) {
+  std::cerr << "ratchet: " << e.what() << "; resume with: ratchet run --resume " << out_dir << "\n";
+  return 128 + e.signal;
+}
+
+// `ratchet run --resume DIR`: the run continues from DIR/checkpoint.state.
+int resume_run(const SceneArgs& a) {
+  const std::string command = "run";
+  if (!a.scene.empty() || !a.out.empty() || !a.packing.empty() || !a.overrides.empty() || a.explain)
+    return usage_error("--resume continues a run as it was: no scene file, --out, --packing, --set or --explain",
+                       command);
+  const std::string& dir = a.resume;
+  if (!fs::is_directory(dir)) return input_error("--resume " + dir + ": expected the folder of a run, not found");
+  try {
+    std::ifstream in(dir + "/run.json");
+    const nlohmann::json done = in ? nlohmann::json::parse(in, nullptr, false) : nlohmann::json();
+    if (done.is_object() && done.value("status", "") == "completed")
+      return input_error("--resume " + dir + ": the run is already completed (run.json)");
+    const ratchet::ResumePoint point = ratchet::read_checkpoint(dir);
+#ifdef _OPENMP
+    if (point.scene.solver.threads > 0) omp_set_num_threads(point.scene.solver.threads);
+#endif
+    ratchet::World world(point.scene);
+    ratchet::resume_world(world, point);
+    ratchet::RunOptions opt;
+    opt.out_dir = dir;
+    opt.resume = point.run;
+    opt.progress = !a.quiet && isatty(STDERR_FILENO);
+    ratchet::install_stop_handlers();
+    if (!a.quiet)
+      std::cerr << "ratchet: " << point.scene.name << ": resuming at step " << world.state().step << " of "
+                << world.scene().steps << " from " << point.path << "\n";
+    const ratchet::RunResult r = ratchet::run_world(world, opt);
+    if (!a.quiet)
+      std::cerr << "ratchet: " << point.scene.name << ": " << r.steps << " steps -> " << dir << "\n";
+    return 0;
+  } catch (const ratchet::RunInterrupted& e) {
+    return interrupted(e, dir);
+  } catch (const ratchet::SceneError& e) {
+    std::cerr << "ratchet: error: " << e.what() << "\n";
+    return 2;
+  } catch (const ratchet::StateFileError& e) {
+    std::cerr << "ratchet: error: " << e.what() << "\n";
+    return 2;
+  } catch (const std::exception& e) {
+    std::cerr << "ratchet: error: " << e.what() << "\n";
+    return 1;
+  }
+}
+
 int run_or_pack(const bool pack, const SceneArgs& a) {
   const std::string command = pack ? "pack" : "run";
+  if (!pack && !a.resume.empty()) return resume_run(a);
   const std::string& out_dir = a.out;
   const std::string& packing = a.packing;
   const bool do_explain = a.explain, quiet = a.quiet;
@@ -307,11 +377,14 @@ int run_or_pack(const bool pack, const SceneArgs& a) {
     }
     opt.out_dir = out_dir;
     opt.progress = !quiet && isatty(STDERR_FILENO);
+    ratchet::install_stop_handlers();
     const ratchet::RunResult r = ratchet::run_world(world, opt);
     if (!quiet)
       std::cerr << "ratchet: " << scene.name << ": " << r.steps << " steps in " << r.wall_seconds << " s -> "
                 << out_dir << "\n";
     return 0;
+  } catch (const ratchet::RunInterrupted& e) {
+    return interrupted(e, out_dir);
   } catch (const ratchet::SceneError& e) {
     std::cerr << "ratchet: error: " << e.what() << "\n";
     return 2;
@@ -392,6 +465,9 @@ int ratchet_cli_main(int argc, char** argv) {
   run->add_option("--packing", run_args.packing, "start from this settled packing (made by ratchet pack)")
       ->type_name("FILE");
   add_set_option(run, run_args.overrides);
+  run->add_option("--resume", run_args.resume,
+                  "continue the run in DIR from its checkpoint (after SIGINT, SIGTERM or a kill); nothing else given")
+      ->type_name("DIR");
   run->add_flag("--explain", run_args.explain, "print the steps' phases and why, write nothing (--out is ignored)");
   run->add_flag("--quiet", run_args.quiet, "no progress line and no closing summary line");
 

@@ -479,3 +479,30 @@ TEST(RatchetCli, BodiesRefusesBadInputBeforeWritingAnything) {
 }
 
 }  // namespace
+
+namespace {
+
+// --resume: what it refuses, each before any work, with exit 2.
+TEST(RatchetCli, ResumeRefusesWhatItCannotContinue) {
+  const fs::path d = scratch();
+  write(d / "s.json", kScene);
+  Result r = run("run --resume " + (d / "none").string());
+  EXPECT_EQ(r.status, 2);
+  EXPECT_THAT(r.output, HasSubstr("--resume " + (d / "none").string() + ": expected the folder of a run"));
+  r = run("run " + (d / "s.json").string() + " --resume " + d.string());
+  EXPECT_EQ(r.status, 2);
+  EXPECT_THAT(r.output, HasSubstr("--resume continues a run as it was"));
+  r = run("run --resume " + d.string() + " --set solver.tolerance=1e-3");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_THAT(r.output, HasSubstr("--resume continues a run as it was"));
+  r = run("run --resume " + d.string());  // a folder without a checkpoint
+  EXPECT_EQ(r.status, 2);
+  EXPECT_THAT(r.output, HasSubstr((d / "checkpoint.state").string() + ": no checkpoint to resume from"));
+  ASSERT_EQ(run("run " + (d / "s.json").string() + " --out " + (d / "done").string() + " --quiet").status, 0);
+  r = run("run --resume " + (d / "done").string());
+  EXPECT_EQ(r.status, 2);
+  EXPECT_THAT(r.output, HasSubstr("the run is already completed"));
+  EXPECT_FALSE(fs::exists(d / "done" / "checkpoint.state"));  // a finished run keeps none
+}
+
+}  // namespace

@@ -171,5 +171,27 @@ TEST(RunWorld, AStepThatOutrunsTheContactMarginIsAWarning) {
   EXPECT_NE(w.find("the first at step 1)"), std::string::npos) << w;
 }
 
+// A container that cools in one step moves its walls farther than the margin: flagged as
+// the fast body is (the contacts against it may be found only after they overlap).
+TEST(RunWorld, AWallThatOutrunsTheContactMarginIsAWarning) {
+  World world(build_scene(json::parse(R"({
+    "name": "fast_wall", "time": {"dt": 0.01},
+    "container": {"type": "cone", "bottom_radius": 5.0, "opening_angle_deg": 0, "segments": 8},
+    "particles": {"bodies": [{"shape": "sphere", "radius": 0.5, "position": [0, 0, 0.5]}]},
+    "thermal": {"start_time": 0.1, "heat_time": 0.01, "hold_time": 0.1, "cool_time": 0.5, "cycles": 1,
+                "alpha_p": 0, "alpha_c": 1e-3}
+  })"), "fast_wall.json"));
+  const RunResult r = run_world(world, {});
+  ASSERT_EQ(r.warnings.size(), 1u) << r.warnings.dump();
+  const std::string w = r.warnings[0].get<std::string>();
+  // Heating in one step moves the side walls by alpha_c dT r = 1e-3 x 100 x 5 = 0.5;
+  // cooling over 50 steps by 0.01 per step, below the margin.
+  EXPECT_NE(w.find("in 1 of "), std::string::npos) << w;
+  EXPECT_NE(w.find("a container wall moved farther than solver.contact_margin = 0.05 per step along its normal "
+                   "(at most 0.5"),
+            std::string::npos)
+      << w;
+}
+
 }  // namespace
 }  // namespace ratchet

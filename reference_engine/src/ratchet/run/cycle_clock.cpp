@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "ratchet/io/json_numbers.hpp"
+
 namespace ratchet {
 
 CycleClock::CycleClock(const SceneDef& scene, double t0, bool settling) : scene_(scene) {
@@ -29,6 +31,19 @@ StageEnds CycleClock::stage_ends(double t_prev, double t) const {
   e.cooling = crossed(p.heat_time + p.hold_time + p.cool_time);
   e.cycle = crossed(L);
   return e;
+}
+
+nlohmann::json CycleClock::save() const {
+  return {{"started", started_}, {"started_at_first", started_at_first_}, {"settle_pending", settle_pending_},
+          {"t_prev", json_number(t_prev_)}, {"cycles_reached", cycles_reached_}};
+}
+
+void CycleClock::restore(const nlohmann::json& j) {
+  started_ = j.at("started").get<bool>();
+  started_at_first_ = j.at("started_at_first").get<bool>();
+  settle_pending_ = j.at("settle_pending").get<bool>();
+  t_prev_ = number_from_json(j.at("t_prev"));
+  cycles_reached_ = j.at("cycles_reached").get<int>();
 }
 
 ClockTick CycleClock::tick(double t, bool settling) {

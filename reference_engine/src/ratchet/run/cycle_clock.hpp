@@ -4,6 +4,8 @@
 // ticks and keep no clock of their own.
 #pragma once
 
+#include <nlohmann/json.hpp>
+
 #include "ratchet/scene/scene.hpp"
 
 namespace ratchet {
@@ -50,6 +52,10 @@ class CycleClock {
 
   // Marks crossed between t_prev and t.
   StageEnds stage_ends(double t_prev, double t) const;
+
+  // A checkpoint's record of this accumulator (run/checkpoint.hpp), and its restore.
+  nlohmann::json save() const;
+  void restore(const nlohmann::json& j);
 
  private:
   const SceneDef& scene_;

@@ -1,5 +1,7 @@
 #include "ratchet/run/cycle_stats.hpp"
 
+#include "ratchet/io/json_numbers.hpp"
+
 namespace ratchet {
 
 void CycleStats::after_step(const World& world, const ClockTick& tick) {
@@ -11,6 +13,20 @@ void CycleStats::after_step(const World& world, const ClockTick& tick) {
   c.iterations_sum += world.stats().iterations;
   ++c.steps;
   c.unconverged += world.stats().converged ? 0 : 1;
+}
+
+nlohmann::json CycleStats::save() const {
+  nlohmann::json a = nlohmann::json::array();
+  for (const CycleSolverStats& c : cycles_)
+    a.push_back({json_number(c.contacts_sum), json_number(c.iterations_sum), c.steps, c.unconverged});
+  return a;
+}
+
+void CycleStats::restore(const nlohmann::json& j) {
+  cycles_.clear();
+  for (const auto& c : j)
+    cycles_.push_back({number_from_json(c.at(0)), number_from_json(c.at(1)), c.at(2).get<long long>(),
+                       c.at(3).get<long long>()});
 }
 
 }  // namespace ratchet

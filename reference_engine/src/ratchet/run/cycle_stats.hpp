@@ -4,6 +4,8 @@
 
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "ratchet/run/cycle_clock.hpp"
 #include "ratchet/world/world.hpp"
 
@@ -22,6 +24,9 @@ class CycleStats {
     return cycle >= 0 && static_cast<std::size_t>(cycle) < cycles_.size() ? cycles_[static_cast<std::size_t>(cycle)]
                                                                            : CycleSolverStats{};
   }
+  // A checkpoint's record of this accumulator (run/checkpoint.hpp), and its restore.
+  nlohmann::json save() const;
+  void restore(const nlohmann::json& j);
 
  private:
   std::vector<CycleSolverStats> cycles_;

@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "ratchet/io/atomic_file.hpp"
+#include "ratchet/io/json_numbers.hpp"
 #include "ratchet/observe/displacement_field.hpp"
 #include "ratchet/run/run_output.hpp"
 
@@ -18,6 +19,17 @@ void DisplacementWindows::after_step(const World& world, const ClockTick& tick) 
   if (!enabled()) return;
   if (tick.cycling_starts) snapshots_.push_back(world.state().x);
   if (tick.cycle >= 0 && tick.ends.cycle) snapshots_.push_back(world.state().x);
+}
+
+nlohmann::json DisplacementWindows::save() const {
+  nlohmann::json a = nlohmann::json::array();
+  for (const auto& s : snapshots_) a.push_back(json_vec3s(s));
+  return a;
+}
+
+void DisplacementWindows::restore(const nlohmann::json& j) {
+  snapshots_.clear();
+  for (const auto& s : j) snapshots_.push_back(vec3s_from_json(s));
 }
 
 void DisplacementWindows::finish(const std::string& out_dir, nlohmann::json& summary) const {

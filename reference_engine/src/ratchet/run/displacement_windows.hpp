@@ -23,6 +23,9 @@ class DisplacementWindows {
   // W_rms of each window into `summary` (null when the run did not reach its end) and
   // DIR/displacement_<a>_<b>.csv for each window reached.
   void finish(const std::string& out_dir, nlohmann::json& summary) const;
+  // A checkpoint's record of this accumulator (run/checkpoint.hpp), and its restore.
+  nlohmann::json save() const;
+  void restore(const nlohmann::json& j);
 
  private:
   const SceneDef& scene_;

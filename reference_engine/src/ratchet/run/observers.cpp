@@ -19,10 +19,40 @@ RunObservers::RunObservers(const World& world, std::string out_dir)
       profile_(world.scene()),
       displacement_(world, clock_),
       vtk_(world, out_dir_) {
+  add_columns();
+}
+
+void RunObservers::add_columns() {
   const OutputSettings& o = scene_.outputs;
   if (o.volume) columns_.push_back("V_over_V0");
   if (o.segment_forces)
     for (std::size_t k = 0; k < side_wall_indices(scene_).size(); ++k) columns_.push_back("wall_force_seg_" + std::to_string(k));
+}
+
+RunObservers::RunObservers(const World& world, std::string out_dir, const nlohmann::json& saved)
+    : scene_(world.scene()),
+      out_dir_(std::move(out_dir)),
+      first_step_(saved.at("first_step").get<std::int64_t>()),
+      clock_(world.scene(), world.state().t, world.settling()),
+      volume_(world),
+      peaks_(world.scene()),
+      profile_(world.scene()),
+      displacement_(world, clock_),
+      vtk_(world, out_dir_, false) {
+  add_columns();
+  clock_.restore(saved.at("clock"));
+  volume_.restore(saved.at("volume"));
+  peaks_.restore(saved.at("peaks"));
+  stats_.restore(saved.at("cycle_stats"));
+  profile_.restore(saved.at("wall_profile"));
+  displacement_.restore(saved.at("displacement"));
+  vtk_.restore(saved.at("vtk"));
+}
+
+nlohmann::json RunObservers::save() const {
+  return {{"first_step", first_step_},   {"clock", clock_.save()},
+          {"volume", volume_.save()},   {"peaks", peaks_.save()},   {"cycle_stats", stats_.save()},
+          {"wall_profile", profile_.save()}, {"displacement", displacement_.save()}, {"vtk", vtk_.save()}};
 }
 
 void RunObservers::extra_values(const World& world, std::vector<double>& values) const {

@@ -26,6 +26,9 @@ class RunObservers {
  public:
   // At the run's first state; out_dir empty: no files.
   RunObservers(const World& world, std::string out_dir);
+  // A resumed run (run/checkpoint.hpp): at the checkpoint's state, with its record
+  // (save()); writes nothing for that state, which the interrupted run wrote.
+  RunObservers(const World& world, std::string out_dir, const nlohmann::json& saved);
 
   // Extra timeseries columns, in this order (names, then values for the current state).
   const std::vector<std::string>& extra_columns() const { return columns_; }
@@ -38,7 +41,11 @@ class RunObservers {
   // returns the summary (P_max, V/V0, W_rms per window) for run.json.
   nlohmann::json finish(const World& world);
 
+  // Everything the accumulators hold, for a checkpoint.
+  nlohmann::json save() const;
+
  private:
+  void add_columns();
   void write_cycles(const std::string& path) const;
 
   const SceneDef& scene_;

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "ratchet/io/json_numbers.hpp"
 #include "ratchet/io/state_file.hpp"
 #include "ratchet/observe/energy.hpp"
 #include "ratchet/run/runner.hpp"
@@ -104,6 +105,20 @@ SettleMonitor::SettleMonitor(World& world)
   if (done_) return;
   observe(world);
   check(world);
+}
+
+SettleMonitor::SettleMonitor(const World& world, const nlohmann::json& saved)
+    : threshold_(world.scene().settle.enabled ? world.scene().settle.ke_ratio : 0.0),
+      peak_(number_from_json(saved.at("peak"))),
+      ke_(number_from_json(saved.at("ke"))),
+      t_(number_from_json(saved.at("t"))),
+      step_(saved.at("step").get<std::int64_t>()),
+      below_(saved.at("below").get<bool>()),
+      done_(saved.at("done").get<bool>()) {}
+
+nlohmann::json SettleMonitor::save() const {
+  return {{"peak", json_number(peak_)}, {"ke", json_number(ke_)}, {"t", json_number(t_)},
+          {"step", step_},             {"below", below_},         {"done", done_}};
 }
 
 void SettleMonitor::after_step(World& world) {

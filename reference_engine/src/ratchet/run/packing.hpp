@@ -40,6 +40,9 @@ struct SettleError : std::runtime_error {
 class SettleMonitor {
  public:
   explicit SettleMonitor(World& world);  // observes the current state
+  // A resumed run (run/checkpoint.hpp): the monitor as save() left it, observing nothing.
+  SettleMonitor(const World& world, const nlohmann::json& saved);
+  nlohmann::json save() const;
   // Observes the state after a step; with a settle section, ends the world's settle
   // stage at the first state at or below the threshold (World::end_settle_stage), or
   // throws SettleError at settle.max_time. A no-op once the stage is over.

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "ratchet/io/json_numbers.hpp"
 #include "ratchet/observe/wall_pressure.hpp"
 
 namespace ratchet {
@@ -24,6 +25,23 @@ void PressurePeaks::after_step(const World& world, const ClockTick& tick) {
     block_time_ = 0.0;
     block_start_ = tick.t;
   }
+}
+
+nlohmann::json PressurePeaks::save() const {
+  nlohmann::json peaks = nlohmann::json::array();
+  for (const CyclePeak& p : peaks_) peaks.push_back({p.cycle, json_number(p.value), json_number(p.time)});
+  return {{"peaks", peaks}, {"block_sum", json_number(block_sum_)}, {"block_time", json_number(block_time_)},
+          {"block_start", json_number(block_start_)}, {"block_cycle", block_cycle_}};
+}
+
+void PressurePeaks::restore(const nlohmann::json& j) {
+  peaks_.clear();
+  for (const auto& p : j.at("peaks"))
+    peaks_.push_back({p.at(0).get<int>(), number_from_json(p.at(1)), number_from_json(p.at(2))});
+  block_sum_ = number_from_json(j.at("block_sum"));
+  block_time_ = number_from_json(j.at("block_time"));
+  block_start_ = number_from_json(j.at("block_start"));
+  block_cycle_ = j.at("block_cycle").get<int>();
 }
 
 void PressurePeaks::summarize(int cycles_reached, nlohmann::json& summary) const {

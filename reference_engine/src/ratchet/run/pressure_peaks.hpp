@@ -22,6 +22,9 @@ class PressurePeaks {
   const std::vector<CyclePeak>& peaks() const { return peaks_; }
   // P_max, P_max_std and steady_cycles over the first `cycles_reached` cycles.
   void summarize(int cycles_reached, nlohmann::json& summary) const;
+  // A checkpoint's record of this accumulator (run/checkpoint.hpp), and its restore.
+  nlohmann::json save() const;
+  void restore(const nlohmann::json& j);
 
  private:
   const SceneDef& scene_;

@@ -32,7 +32,7 @@ std::string without_partial(const std::string& name) {
 bool is_run_output(const std::string& name) {
   const std::string base = without_partial(name);
   if (base == "timeseries.csv" || base == "bodies.csv" || base == "cycles.csv" || base == "wall_profile.csv" ||
-      base == "bodies_shapes.json")
+      base == "bodies_shapes.json" || base == "checkpoint.state")
     return true;
   return base.rfind("displacement_", 0) == 0 && base.size() > 17 && ends_with(base, ".csv");
 }
@@ -76,6 +76,23 @@ RunOutput::RunOutput(const std::string& dir, const std::vector<std::string>& ext
   bodies_->stream() << "step,t,id,x,y,z,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz,scale\n";
 }
 
+std::unique_ptr<RunOutput> RunOutput::resume(const std::string& dir, const nlohmann::json& sizes) {
+  std::unique_ptr<RunOutput> out(new RunOutput(dir));
+  out->timeseries_ = std::make_unique<AtomicFile>(dir + "/timeseries.csv", sizes.at("timeseries.csv").get<std::uintmax_t>());
+  out->bodies_ = std::make_unique<AtomicFile>(dir + "/bodies.csv", sizes.at("bodies.csv").get<std::uintmax_t>());
+  return out;
+}
+
+nlohmann::json RunOutput::flush_sizes() {
+  return {{"timeseries.csv", timeseries_->flush_size()}, {"bodies.csv", bodies_->flush_size()}};
+}
+
+void RunOutput::interrupt(const World& world, const nlohmann::json& summary) {
+  timeseries_->keep();
+  bodies_->keep();
+  write_run_json(world, summary);
+}
+
 void RunOutput::write_timeseries_row(const World& world, const std::vector<double>& extra) {
   const SceneDef& sc = world.scene();
   const State& s = world.state();
@@ -108,6 +125,10 @@ void RunOutput::write_bodies(const World& world) {
 void RunOutput::finish(const World& world, const nlohmann::json& summary) {
   timeseries_->commit();
   bodies_->commit();
+  write_run_json(world, summary);
+}
+
+void RunOutput::write_run_json(const World& world, const nlohmann::json& summary) const {
   nlohmann::json meta = run_metadata(world);
   for (auto it = summary.begin(); it != summary.end(); ++it) meta[it.key()] = it.value();
   write_file_atomic(dir_ + "/run.json", meta.dump(2) + "\n");

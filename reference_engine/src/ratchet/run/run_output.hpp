@@ -21,20 +21,29 @@ class RunOutput {
   // outputs first, remove_previous_outputs, before any observer wrote); extra_columns
   // follow the fixed timeseries columns. Rows are written by the caller, step 0 included.
   RunOutput(const std::string& dir, const std::vector<std::string>& extra_columns);
+  // A resumed run: the CSVs' .partial files cut back to the byte lengths a checkpoint
+  // recorded (flush_sizes) and appended to.
+  static std::unique_ptr<RunOutput> resume(const std::string& dir, const nlohmann::json& sizes);
   // One timeseries row; `extra` holds one value per extra column, in their order.
   void write_timeseries_row(const World& world, const std::vector<double>& extra);
   void write_bodies(const World& world);
   // Renames the CSVs into place and writes run.json with the given summary.
   void finish(const World& world, const nlohmann::json& summary);
+  // Flushes the CSVs and returns their byte lengths, {"timeseries.csv": n, "bodies.csv": n}.
+  nlohmann::json flush_sizes();
+  // A stopped run: the CSVs stay as .partial files for --resume, run.json gets `summary`.
+  void interrupt(const World& world, const nlohmann::json& summary);
 
  private:
+  explicit RunOutput(std::string dir) : dir_(std::move(dir)) {}
+  void write_run_json(const World& world, const nlohmann::json& summary) const;
   std::string dir_;
   std::unique_ptr<AtomicFile> timeseries_, bodies_;
 };
 
 // Removes from `dir` what an earlier run wrote there: run.json first (the folder no longer
 // looks complete), then timeseries.csv, bodies.csv, bodies_shapes.json, cycles.csv, wall_profile.csv,
-// displacement_<a>_<b>.csv (and their .partial files), and in vtk/ the snapshots
+// displacement_<a>_<b>.csv, checkpoint.state (and their .partial files), and in vtk/ the snapshots
 // particles_*, contacts_*, container_* (.vtp, or .vtk of older versions) and the .pvd
 // indexes. Other files are left alone. Returns the paths removed.
 std::vector<std::string> remove_previous_outputs(const std::string& dir);

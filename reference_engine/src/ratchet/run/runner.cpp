@@ -13,13 +13,15 @@
 #include <optional>
 #include <vector>
 
-#include "ratchet/geometry/particle_generator.hpp"
 #include "ratchet/io/bodies_file.hpp"
 #include "ratchet/observe/energy.hpp"
 #include "ratchet/run/observers.hpp"
+#include "ratchet/run/checkpoint.hpp"
 #include "ratchet/run/packing.hpp"
 #include "ratchet/run/run_output.hpp"
+#include "ratchet/run/run_warnings.hpp"
 #include "ratchet/run/state_bounds.hpp"
+#include "ratchet/run/stop_request.hpp"
 
 namespace ratchet {
 
@@ -31,15 +33,6 @@ std::string format_seconds(double s) {
   else if (s >= 60) std::snprintf(buf, sizeof buf, "%dm%02ds", static_cast<int>(s / 60), static_cast<int>(s) % 60);
   else std::snprintf(buf, sizeof buf, "%.0fs", s);
   return buf;
-}
-
-// The largest speed of a free body (centre of mass).
-double max_speed(const World& world) {
-  double v2 = 0.0;
-  const auto& bodies = world.scene().bodies;
-  for (std::size_t i = 0; i < bodies.size(); ++i)
-    if (!bodies[i].fixed) v2 = std::max(v2, world.state().v[i].squaredNorm());
-  return std::sqrt(v2);
 }
 
 }  // namespace
@@ -69,18 +62,54 @@ int terminal_columns(int fd) {
   return 80;
 }
 
+namespace {
+
+// What the runner keeps besides the world and observers, for a checkpoint.
+nlohmann::json run_record(const nlohmann::json& packing, const nlohmann::json& packing_settle,
+                          const RunWarnings& warnings, const SettleMonitor* settle, const RunObservers& observers,
+                          RunOutput& out) {
+  return {{"packing", packing},
+          {"packing_settle", packing_settle},
+          {"warnings", warnings.save()},
+          {"settle_monitor", settle ? settle->save() : nlohmann::json(nullptr)},
+          {"observers", observers.save()},
+          {"files", out.flush_sizes()}};
+}
+
+}  // namespace
+
 RunResult run_world(World& world, const RunOptions& options, const std::function<void(const World&)>& each_step) {
   const SceneDef& scene = world.scene();  // its end and start_time move when a settle section's stage ends
-  // An earlier run's outputs go before any observer writes (a VTK snapshot of the first
-  // state, for one): old files never stand beside this run's.
+  const bool resuming = !options.resume.is_null();
+  if (resuming && options.out_dir.empty()) throw std::invalid_argument("run_world: resuming needs the run's folder");
   if (!options.out_dir.empty()) {
     std::filesystem::create_directories(options.out_dir);
-    remove_previous_outputs(options.out_dir);
-    // The bodies and their shapes as the run starts: the folder is self-contained
-    // (docs/output-format.md, "Bodies and shapes").
-    write_bodies_file(options.out_dir + "/" + kBodiesFileName, world.scene(), world.state());
+    if (resuming) {
+      // The interrupted run's run.json goes first: the folder is not finished.
+      std::filesystem::remove(options.out_dir + "/run.json");
+    } else {
+      // An earlier run's outputs go before any observer writes (a VTK snapshot of the
+      // first state, for one): old files never stand beside this run's.
+      remove_previous_outputs(options.out_dir);
+      // The bodies and their shapes as the run starts: the folder is self-contained
+      // (docs/output-format.md, "Bodies and shapes").
+      write_bodies_file(options.out_dir + "/" + kBodiesFileName, world.scene(), world.state());
+    }
   }
-  RunObservers observers(world, options.out_dir);
+  const nlohmann::json& saved = options.resume;
+  // The packing the run started from (null: none), as the interrupted run had it.
+  const nlohmann::json packing = resuming ? saved.at("packing") : options.packing;
+  const nlohmann::json packing_settle = resuming ? saved.at("packing_settle") : options.packing_settle;
+  RunObservers observers = resuming ? RunObservers(world, options.out_dir, saved.at("observers"))
+                                    : RunObservers(world, options.out_dir);
+  RunWarnings warnings = resuming ? RunWarnings(saved.at("warnings")) : RunWarnings();
+  // A run from a packing starts after its settle stage and reports the packing's record.
+  std::optional<SettleMonitor> settle;
+  if (resuming) {
+    if (!saved.at("settle_monitor").is_null()) settle.emplace(world, saved.at("settle_monitor"));
+  } else if (packing.is_null()) {
+    settle.emplace(world);
+  }
   std::unique_ptr<RunOutput> out;
   std::vector<double> extra;  // the observers' columns of a timeseries row
   auto write_row = [&]() {
@@ -88,29 +117,28 @@ RunResult run_world(World& world, const RunOptions& options, const std::function
     out->write_timeseries_row(world, extra);
   };
   if (!options.out_dir.empty()) {
-    out = std::make_unique<RunOutput>(options.out_dir, observers.extra_columns());
-    write_row();
-    out->write_bodies(world);
+    if (resuming) {
+      out = RunOutput::resume(options.out_dir, saved.at("files"));
+    } else {
+      out = std::make_unique<RunOutput>(options.out_dir, observers.extra_columns());
+      write_row();
+      out->write_bodies(world);
+    }
   }
   const auto start = std::chrono::steady_clock::now();
   auto last_print = start;
+  const std::int64_t first_step = world.state().step;
   const bool tty = options.progress && isatty(STDERR_FILENO) == 1;
   const int every_ts = scene.outputs.timeseries_every;
   const int every_bodies = scene.outputs.bodies_every;
-  // A run from a packing starts after its settle stage and reports the packing's record.
-  std::optional<SettleMonitor> settle;
-  if (options.packing.is_null()) settle.emplace(world);
+  const int every_checkpoint = scene.outputs.checkpoint_every;
   bool printed = false;  // a progress line is on the terminal: an error must start a new line
-  // The cap is meant to be out of reach (docs/method.md s. 7): a step that stops there
-  // is reported at once, and the run's count and first such step go to run.json.
-  std::int64_t first_capped = -1;
-  double first_capped_t = 0.0, first_capped_residual = 0.0;
-  // A body that moves more than the contact margin in one step can meet a contact only
-  // after it has overlapped (docs/scene-format.md, solver.contact_margin): flagged.
-  std::int64_t first_fast = -1, fast_steps = 0;
-  double fastest_travel = 0.0;
+  auto seconds_since_start = [&]() {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  };
   try {
     while (world.state().step < scene.steps) {
+      const double s_c_before = world.state().s_c;
       world.step();
       const std::int64_t k = world.state().step;
       const double ke = kinetic_energy(world.scene(), world.state());
@@ -122,21 +150,14 @@ RunResult run_world(World& world, const RunOptions& options, const std::function
                        " (t = " + std::to_string(world.state().t) + "): " + wrong +
                        "; the time step may be too large for the speeds, or the bed is jammed beyond what the "
                        "contact law can hold");
-      if (!world.stats().converged && first_capped < 0) {
-        first_capped = k;
-        first_capped_t = world.state().t;
-        first_capped_residual = world.stats().residual;
+      // The cap is meant to be out of reach (docs/method.md s. 7): a step that stops there
+      // is reported at once, and the run's count and first such step go to run.json.
+      if (warnings.after_step(world, s_c_before)) {
         std::fprintf(stderr, "%s%s: warning: step %lld (t = %.6g) stopped at solver.max_iterations = %d sweeps "
                              "unconverged (residual %.3g, tolerance %.3g); further such steps are counted in run.json\n",
                      printed ? "\n" : "", scene.source.c_str(), static_cast<long long>(k), world.state().t,
                      scene.solver.max_iterations, world.stats().residual, scene.solver.tolerance);
         printed = false;
-      }
-      const double travel = max_speed(world) * scene.dt;
-      if (travel > scene.solver.contact_margin) {
-        if (first_fast < 0) first_fast = k;
-        ++fast_steps;
-        fastest_travel = std::max(fastest_travel, travel);
       }
       // Before the observers: the state that ends the settle stage starts the cycling.
       if (settle) settle->after_step(world);
@@ -147,12 +168,32 @@ RunResult run_world(World& world, const RunOptions& options, const std::function
         if ((every_bodies > 0 && k % every_bodies == 0) || k == total) out->write_bodies(world);
       }
       if (each_step) each_step(world);
+      // A checkpoint after everything this step writes; a stop request is honoured here,
+      // between steps, where the checkpoint is whole.
+      if (const int sig = stop_signal(); sig != 0 && k < total) {
+        if (printed) std::fprintf(stderr, "\n");
+        const std::string what = scene.source + ": stopped by " + signal_name(sig) + " after step " +
+                                 std::to_string(k) + " of " + std::to_string(total);
+        if (out) {
+          write_checkpoint(options.out_dir, world, run_record(packing, packing_settle, warnings, settle ? &*settle : nullptr, observers, *out));
+          out->interrupt(world, {{"status", "interrupted"},
+                                 {"error", what},
+                                 {"signal", signal_name(sig)},
+                                 {"checkpoint", kCheckpointFileName},
+                                 {"resume", "ratchet run --resume " + options.out_dir},
+                                 {"wall_seconds", seconds_since_start()},
+                                 {"packing", packing}});
+        }
+        throw RunInterrupted(what, sig);
+      }
+      if (out && every_checkpoint > 0 && k % every_checkpoint == 0 && k < total)
+        write_checkpoint(options.out_dir, world, run_record(packing, packing_settle, warnings, settle ? &*settle : nullptr, observers, *out));
       if (options.progress) {
         const auto now = std::chrono::steady_clock::now();
         if (std::chrono::duration<double>(now - last_print).count() > 0.5 || k == total) {
           last_print = now;
           const double el = std::chrono::duration<double>(now - start).count();
-          const double left = el / static_cast<double>(k) * static_cast<double>(total - k);
+          const double left = el / static_cast<double>(k - first_step) * static_cast<double>(total - k);
           char tail[256];
           std::snprintf(tail, sizeof tail, ": step %lld/%lld%s (%.1f%%) t=%.4g T=%.4g contacts=%d iter=%d  %s left",
                         static_cast<long long>(k), static_cast<long long>(total),
@@ -171,10 +212,13 @@ RunResult run_world(World& world, const RunOptions& options, const std::function
     if (printed) std::fprintf(stderr, "\n");
     // Keep what was written, marked failed: the CSVs up to here and a run.json that says
     // why (docs/output-format.md, "When a run fails").
-    if (out)
-      out->finish(world, {{"status", "failed"}, {"error", e.what()},
-                          {"wall_seconds", std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()},
-                          {"packing", options.packing}});
+    if (out) {
+      out->finish(world, {{"status", "failed"}, {"error", e.what()}, {"wall_seconds", seconds_since_start()},
+                          {"packing", packing}, {"warnings", warnings.sentences(world)}});
+      std::filesystem::remove(options.out_dir + "/" + kCheckpointFileName);  // it would only fail again
+    }
+    throw;
+  } catch (const RunInterrupted&) {
     throw;
   } catch (...) {
     if (printed) std::fprintf(stderr, "\n");
@@ -182,40 +226,19 @@ RunResult run_world(World& world, const RunOptions& options, const std::function
   }
   RunResult r;
   r.steps = world.state().step;
-  r.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  r.wall_seconds = seconds_since_start();
   r.summary = observers.finish(world);
   if (settle) r.settle = has_settle_stage(scene) ? settle->record() : nlohmann::json(nullptr);
-  else r.settle = options.packing_settle;
-  if (first_capped >= 0) {
-    char text[320];
-    std::snprintf(text, sizeof text,
-                  "%lld of %lld steps stopped at solver.max_iterations = %d sweeps unconverged, the first at step %lld "
-                  "(t = %.6g, residual %.3g against the tolerance %.3g)",
-                  static_cast<long long>(world.stats().unconverged_steps), static_cast<long long>(r.steps),
-                  scene.solver.max_iterations, static_cast<long long>(first_capped), first_capped_t,
-                  first_capped_residual, scene.solver.tolerance);
-    r.warnings.push_back(text);
-  }
-  if (scene.redrawn_particles > 0) {
-    const std::string text = std::to_string(scene.redrawn_particles) +
-                             " generated particle(s) were slivers (inradius below " + std::to_string(kMinInradius) +
-                             " of their radius) and were drawn again: particles.generate.vertices is low";
-    r.warnings.push_back(text);
-  }
-  if (first_fast >= 0) {
-    char text[320];
-    std::snprintf(text, sizeof text,
-                  "in %lld of %lld steps a body moved farther than solver.contact_margin = %.3g per step (at most "
-                  "%.3g, the first at step %lld): contacts may be found only after they overlap; a smaller "
-                  "time.dt or a larger margin avoids it",
-                  static_cast<long long>(fast_steps), static_cast<long long>(r.steps), scene.solver.contact_margin,
-                  fastest_travel, static_cast<long long>(first_fast));
-    r.warnings.push_back(text);
-    std::fprintf(stderr, "%s: warning: %s\n", scene.source.c_str(), text);
-  }
-  if (out)
+  else r.settle = packing_settle;
+  r.warnings = warnings.sentences(world);
+  for (const auto& w : r.warnings)
+    if (w.get<std::string>().rfind("in ", 0) == 0)  // the travel warnings; the cap was reported at its first step
+      std::fprintf(stderr, "%s: warning: %s\n", scene.source.c_str(), w.get<std::string>().c_str());
+  if (out) {
     out->finish(world, {{"status", "completed"}, {"wall_seconds", r.wall_seconds}, {"summary", r.summary},
-                        {"settle", r.settle}, {"packing", options.packing}, {"warnings", r.warnings}});
+                        {"settle", r.settle}, {"packing", packing}, {"warnings", r.warnings}});
+    std::filesystem::remove(options.out_dir + "/" + kCheckpointFileName);  // the run is whole without it
+  }
   return r;
 }
 

@@ -19,6 +19,10 @@ struct RunOptions {
   // run.json; null: the run starts from the scene and records its own settle stage.
   nlohmann::json packing;
   nlohmann::json packing_settle;
+  // Set when the run continues from a checkpoint (run/checkpoint.hpp): the checkpoint's
+  // run record (ResumePoint::run), the world already at its state (resume_world). The
+  // run then goes on in out_dir exactly as if it had never stopped. Null: a fresh run.
+  nlohmann::json resume;
 };
 
 struct RunResult {
@@ -44,7 +48,10 @@ std::string progress_line(const std::string& text, int columns);
 int terminal_columns(int fd);
 
 // Runs world until scene().steps steps are done. Calls `each_step` (if given) after
-// every step, e.g. for tests that watch the trajectory.
+// every step, e.g. for tests that watch the trajectory. Writes a checkpoint every
+// outputs.checkpoint_every steps; on a stop request (run/stop_request.hpp) writes one,
+// marks run.json interrupted and throws RunInterrupted. Throws RunError (run.json
+// marked failed) when the state diverges or turns unphysical.
 RunResult run_world(World& world, const RunOptions& options,
                     const std::function<void(const World&)>& each_step = {});
 

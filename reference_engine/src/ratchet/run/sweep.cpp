@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <fstream>
 #include <mutex>
+#include <optional>
 #include <sstream>
 #include <thread>
 
@@ -15,9 +16,11 @@
 
 #include "ratchet/io/atomic_file.hpp"
 #include "ratchet/io/state_file.hpp"
+#include "ratchet/run/checkpoint.hpp"
 #include "ratchet/run/packing.hpp"
 #include "ratchet/run/run_output.hpp"
 #include "ratchet/run/runner.hpp"
+#include "ratchet/run/stop_request.hpp"
 #include "ratchet/scene/scene.hpp"
 
 namespace ratchet {
@@ -147,6 +150,18 @@ json read_run_json(const SweepPlan& plan, int id) {
   return j.is_discarded() ? json() : j;
 }
 
+// The checkpoint an interrupted run of this scene left in `dir`; none when there is
+// none, or it is damaged, of another engine or of another scene (the run starts over).
+std::optional<ResumePoint> checkpoint_of(const std::string& dir, const SceneDef& scene) {
+  if (!std::filesystem::is_regular_file(dir + "/" + kCheckpointFileName)) return std::nullopt;
+  try {
+    ResumePoint point = read_checkpoint(dir);
+    if (point.scene.hash == scene.hash) return point;
+  } catch (const std::exception&) {
+  }
+  return std::nullopt;
+}
+
 }  // namespace
 
 bool run_completed(const SweepPlan& plan, const SweepRun& run) {
@@ -262,14 +277,22 @@ void run_sweep(const SweepPlan& plan, const std::vector<int>& ids, int jobs,
 #ifdef _OPENMP
     omp_set_num_threads(1);  // parallel over runs, not inside them
 #endif
-    for (std::size_t k = next++; k < todo.size(); k = next++) {
+    for (std::size_t k = next++; k < todo.size() && stop_signal() == 0; k = next++) {
       const SweepRun& run = plan.runs[static_cast<std::size_t>(todo[k])];
       std::string line;
       try {
         World world(build_scene(run.scene, plan.source + " run " + std::to_string(run.id)));
         RunOptions opt;
         opt.out_dir = run_dir(plan, run.id);
-        if (!run.packing_key.empty()) {
+        if (const std::optional<ResumePoint> point = checkpoint_of(opt.out_dir, world.scene())) {
+          // An interrupted run goes on from its last checkpoint (run/checkpoint.hpp).
+          resume_world(world, *point);
+          opt.resume = point->run;
+          if (progress) {
+            std::lock_guard<std::mutex> lock(mutex);
+            progress("run " + std::to_string(run.id) + " resumes at step " + std::to_string(world.state().step));
+          }
+        } else if (!run.packing_key.empty()) {
           const std::string path = packing_path(plan, run.packing_key);
           const json meta = load_packing(path, world);
           opt.packing = packing_reference(path, world);
@@ -283,6 +306,8 @@ void run_sweep(const SweepPlan& plan, const std::vector<int>& ids, int jobs,
         s << "run " << run.id << " done in " << std::round(r.wall_seconds) << " s (" << n << "/" << todo.size()
           << ", about " << std::round(left) << " s left)";
         line = s.str();
+      } catch (const RunInterrupted& e) {
+        line = "run " + std::to_string(run.id) + " stopped, checkpoint kept: " + e.what();
       } catch (const std::exception& e) {
         ++done;
         line = "run " + std::to_string(run.id) + " FAILED: " + e.what();

@@ -1,5 +1,6 @@
 #include "ratchet/run/volume_ratio.hpp"
 
+#include "ratchet/io/json_numbers.hpp"
 #include "ratchet/observe/bed_volume.hpp"
 
 namespace ratchet {
@@ -24,6 +25,16 @@ void VolumeRatio::after_step(const World& world, const ClockTick& tick) {
   }
   if (tick.ends.heating) v_heat_[k] = ratio(world);
   if (tick.ends.cooling) v_cool_[k] = ratio(world);
+}
+
+nlohmann::json VolumeRatio::save() const {
+  return {{"v0", json_number(v0_)}, {"heating", json_numbers(v_heat_)}, {"cooling", json_numbers(v_cool_)}};
+}
+
+void VolumeRatio::restore(const nlohmann::json& j) {
+  v0_ = number_from_json(j.at("v0"));
+  v_heat_ = numbers_from_json(j.at("heating"));
+  v_cool_ = numbers_from_json(j.at("cooling"));
 }
 
 void VolumeRatio::summarize(const World& world, nlohmann::json& summary) const {

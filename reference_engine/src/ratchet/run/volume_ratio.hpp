@@ -25,6 +25,9 @@ class VolumeRatio {
   double at_end_of_heating(int cycle) const { return at(v_heat_, cycle); }
   double at_end_of_cooling(int cycle) const { return at(v_cool_, cycle); }
   void summarize(const World& world, nlohmann::json& summary) const;
+  // A checkpoint's record of this accumulator (run/checkpoint.hpp), and its restore.
+  nlohmann::json save() const;
+  void restore(const nlohmann::json& j);
 
  private:
   static double at(const std::vector<double>& v, int cycle) {

@@ -5,6 +5,7 @@
 #include <filesystem>
 
 #include "ratchet/core/contact_side.hpp"
+#include "ratchet/io/json_numbers.hpp"
 #include "ratchet/observe/bed_geometry.hpp"
 
 namespace ratchet {
@@ -61,9 +62,42 @@ std::string vtk_step_tag(std::int64_t step) {
   return buf;
 }
 
-VtkSnapshots::VtkSnapshots(const World& world, std::string out_dir)
+VtkSnapshots::VtkSnapshots(const World& world, std::string out_dir, bool first_state)
     : scene_(world.scene()), out_dir_(std::move(out_dir)) {
-  if (!out_dir_.empty() && scene_.outputs.vtk_every > 0) write(world, vtk_step_tag(world.state().step));
+  if (first_state && !out_dir_.empty() && scene_.outputs.vtk_every > 0) write(world, vtk_step_tag(world.state().step));
+}
+
+namespace {
+
+nlohmann::json json_entries(const std::vector<PvdEntry>& entries) {
+  nlohmann::json a = nlohmann::json::array();
+  for (const PvdEntry& e : entries) a.push_back({json_number(e.time), e.file});
+  return a;
+}
+
+std::vector<PvdEntry> entries_from_json(const nlohmann::json& j) {
+  std::vector<PvdEntry> entries;
+  for (const auto& e : j) entries.push_back({number_from_json(e.at(0)), e.at(1).get<std::string>()});
+  return entries;
+}
+
+}  // namespace
+
+nlohmann::json VtkSnapshots::save() const {
+  return {{"last_indexed_step", last_indexed_step_}, {"particles", json_entries(particles_)},
+          {"contacts", json_entries(contacts_)}, {"container", json_entries(container_)}};
+}
+
+void VtkSnapshots::restore(const nlohmann::json& j) {
+  last_indexed_step_ = j.at("last_indexed_step").get<std::int64_t>();
+  particles_ = entries_from_json(j.at("particles"));
+  contacts_ = entries_from_json(j.at("contacts"));
+  container_ = entries_from_json(j.at("container"));
+  if (out_dir_.empty() || particles_.empty()) return;
+  const std::string dir = out_dir_ + "/vtk";
+  write_pvd(dir + "/particles.pvd", particles_);
+  write_pvd(dir + "/contacts.pvd", contacts_);
+  if (!container_.empty()) write_pvd(dir + "/container.pvd", container_);
 }
 
 void VtkSnapshots::after_step(const World& world, const ClockTick& tick) {

@@ -12,6 +12,8 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "ratchet/observe/container_mesh.hpp"
 #include "ratchet/observe/pvd_writer.hpp"
 #include "ratchet/observe/vtk_writer.hpp"
@@ -39,8 +41,9 @@ std::string vtk_step_tag(std::int64_t step);
 
 class VtkSnapshots {
  public:
-  // At the run's first state; out_dir empty: no files.
-  VtkSnapshots(const World& world, std::string out_dir);
+  // At the run's first state; out_dir empty: no files. A resumed run (run/checkpoint.hpp)
+  // passes first_state = false: its first state was written before the interruption.
+  VtkSnapshots(const World& world, std::string out_dir, bool first_state = true);
 
   // After every step. (An earlier run's VTK files were removed by the runner before this
   // object wrote the first state: remove_previous_outputs, run/run_output.hpp.)
@@ -48,6 +51,12 @@ class VtkSnapshots {
 
   // Writes the current state under `tag` and indexes it.
   void write(const World& world, const std::string& tag);
+
+  // A checkpoint's record (the indexes so far), and its restore, which rewrites the
+  // .pvd indexes as they were at the checkpoint: snapshots an interrupted run wrote
+  // after it are dropped from them until the resumed run writes them again.
+  nlohmann::json save() const;
+  void restore(const nlohmann::json& j);
 
  private:
   void write(const VtkSnapshot& snap, const std::string& tag);

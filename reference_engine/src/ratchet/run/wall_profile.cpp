@@ -3,12 +3,27 @@
 #include <sstream>
 
 #include "ratchet/io/atomic_file.hpp"
+#include "ratchet/io/json_numbers.hpp"
 #include "ratchet/observe/bed_geometry.hpp"
 #include "ratchet/observe/wall_forces.hpp"
 #include "ratchet/observe/wall_pressure.hpp"
 #include "ratchet/run/run_output.hpp"
 
 namespace ratchet {
+
+nlohmann::json WallProfile::save() const {
+  return {{"rows", rows_}, {"impulse", json_numbers(impulse_)}, {"time", json_number(time_)},
+          {"height", json_number(height_)}, {"in_cold_hold", in_cold_hold_}, {"in_settled_window", in_settled_window_}};
+}
+
+void WallProfile::restore(const nlohmann::json& j) {
+  rows_ = j.at("rows").get<std::vector<std::string>>();
+  impulse_ = numbers_from_json(j.at("impulse"));
+  time_ = number_from_json(j.at("time"));
+  height_ = number_from_json(j.at("height"));
+  in_cold_hold_ = j.at("in_cold_hold").get<bool>();
+  in_settled_window_ = j.at("in_settled_window").get<bool>();
+}
 
 void WallProfile::after_step(const World& world, const ClockTick& tick) {
   const OutputSettings& o = scene_.outputs;

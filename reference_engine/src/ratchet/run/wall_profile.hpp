@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "ratchet/run/cycle_clock.hpp"
 #include "ratchet/world/world.hpp"
 
@@ -19,6 +21,9 @@ class WallProfile {
   void after_step(const World& world, const ClockTick& tick);
   // Writes DIR/wall_profile.csv (header and the rows so far).
   void write(const std::string& out_dir) const;
+  // A checkpoint's record of this accumulator (run/checkpoint.hpp), and its restore.
+  nlohmann::json save() const;
+  void restore(const nlohmann::json& j);
 
  private:
   void begin(const World& world);

@@ -472,7 +472,7 @@ std::vector<std::pair<int, int>> read_windows(const Reader& r, const json& j, co
 void read_outputs(const Reader& r, const json& j, SceneDef& s) {
   const std::string p = "outputs";
   r.object(j, p, {"timeseries_every", "bodies_every", "volume", "segment_forces", "cycles", "steady_cycles",
-                  "displacement", "wall_profile_bins", "settled_profile_time", "vtk_cycles", "vtk_every",
+                  "displacement", "wall_profile_bins", "settled_profile_time", "vtk_cycles", "vtk_every", "checkpoint_every",
                   "pressure_window"});
   OutputSettings& o = s.outputs;
   o.timeseries_every = static_cast<int>(r.integer(j, p, "timeseries_every", 1, 1, 1 << 30));
@@ -517,6 +517,7 @@ void read_outputs(const Reader& r, const json& j, SceneDef& s) {
              &v);
   }
   o.vtk_every = static_cast<int>(r.integer(j, p, "vtk_every", 0, 0, 1 << 30));
+  o.checkpoint_every = static_cast<int>(r.integer(j, p, "checkpoint_every", kDefaultCheckpointEvery, 0, 1 << 30));
 }
 
 // The settle stage (run/packing.hpp): until KE <= ke_ratio x peak, at most max_time.

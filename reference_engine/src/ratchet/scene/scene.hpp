@@ -104,6 +104,10 @@ struct BodyDef {
 
 // What a run records beyond the always-present timeseries (docs/method.md s. 10). Each
 // observable is computed only when asked for.
+// A checkpoint of a run of the paper's bed every 2000 steps: about a minute and a half of
+// its CPU (docs/performance.md), for a few milliseconds of writing.
+constexpr int kDefaultCheckpointEvery = 2000;
+
 struct OutputSettings {
   int timeseries_every = 1;  // steps between rows of timeseries.csv
   int bodies_every = 0;      // steps between snapshots in bodies.csv; 0: first and last only
@@ -118,6 +122,7 @@ struct OutputSettings {
   double pressure_window = 0.5;  // time units: block average of P(t) for the per-cycle peaks
   std::vector<int> vtk_cycles;  // VTK at the ends of heating and cooling of these cycles (thermal cycles only)
   int vtk_every = 0;            // > 0: VTK of the first state, every step k with k % vtk_every == 0, and the last
+  int checkpoint_every = kDefaultCheckpointEvery;  // > 0: DIR/checkpoint.state every this many steps (run/checkpoint.hpp); 0: none
 };
 
 // The settle section (docs/scene-format.md, "settle"): the bed settles until its

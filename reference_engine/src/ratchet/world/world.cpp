@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 #include "ratchet/solver/nsgs.hpp"
 
@@ -101,6 +102,32 @@ void World::end_settle_stage() {
   scene_.thermal.start_time = state_.t + st.rest_time;
   scene_.duration = state_.t + st.run_time;
   scene_.steps = state_.step + static_cast<std::int64_t>(std::llround(st.run_time / scene_.dt));
+}
+
+WorldProgress World::progress() const {
+  WorldProgress p;
+  p.settling = settling_;
+  p.start_time = scene_.thermal.start_time;
+  p.duration = scene_.duration;
+  p.steps = scene_.steps;
+  p.tangential_solves = stats_.tangential_solves;
+  p.total_iterations = stats_.total_iterations;
+  p.unconverged_steps = stats_.unconverged_steps;
+  p.timers = timers_;
+  return p;
+}
+
+void World::restore_progress(const WorldProgress& p) {
+  if (p.settling && !settling_)
+    throw std::logic_error(scene_.source + ": restore_progress: a settle stage that this scene does not have");
+  settling_ = p.settling;
+  scene_.thermal.start_time = p.start_time;
+  scene_.duration = p.duration;
+  scene_.steps = p.steps;
+  stats_.tangential_solves = p.tangential_solves;
+  stats_.total_iterations = p.total_iterations;
+  stats_.unconverged_steps = p.unconverged_steps;
+  timers_ = p.timers;
 }
 
 Vec3 World::wall_point(int wall) const {

@@ -40,6 +40,17 @@ struct StepStats {
   bool normal_growth = false;          // ... and if not, its normal impulses still grew
 };
 
+// What a run has done to a world besides its State: the settle stage's end (which moves
+// the protocol's start and the run's end), the run's solver counters and phase timers.
+// State plus this is what a checkpoint keeps of a world (run/checkpoint.hpp).
+struct WorldProgress {
+  bool settling = false;
+  double start_time = 0.0, duration = 0.0;  // scene().thermal.start_time, scene().duration
+  std::int64_t steps = 0;                   // scene().steps
+  std::int64_t tangential_solves = 0, total_iterations = 0, unconverged_steps = 0;
+  PhaseTimers timers;
+};
+
 class World {
  public:
   explicit World(const SceneDef& scene);
@@ -52,6 +63,11 @@ class World {
   // Call once, between steps (run/packing.cpp does).
   void end_settle_stage();
   bool settling() const { return settling_; }
+
+  // A checkpoint's record of the run so far, and its restore into a world fresh from
+  // the same scene whose state has been replaced by the checkpoint's.
+  WorldProgress progress() const;
+  void restore_progress(const WorldProgress& p);
 
   const SceneDef& scene() const { return scene_; }
   const State& state() const { return state_; }
