@@ -247,10 +247,10 @@ TEST(Packing, PackingOfAnotherSceneIsRefusedBeforeAnythingChanges) {
   fs::remove_all(d);
 }
 
-// A packing fixes the bed; how closely a run from it is solved, and the contact
-// compliance, may differ (the study of what accuracy costs varies tolerance, criterion,
-// cap, acceleration and compliance from one bed).
-// Anything else that shapes the bed is still refused.
+// A packing fixes the bed; how closely a run from it is solved, the contact compliance
+// and the gap relaxation may differ (the study of what accuracy costs varies tolerance,
+// criterion, cap, acceleration, compliance and p_gap from one bed), and with a settle
+// section the time step too. Anything else that shapes the bed is still refused.
 TEST(Packing, SolveKnobsMayDifferFromThePackingsScene) {
   const fs::path d = scratch("knobs");
   const std::string file = (d / "p.state").string();
@@ -258,18 +258,46 @@ TEST(Packing, SolveKnobsMayDifferFromThePackingsScene) {
   json knobs = with(with(with(bed(), "solver.tolerance", 1e-7), "solver.max_iterations", 5000), "solver.criterion",
                     "velocity");
   knobs = with(with(knobs, "solver.acceleration", "anderson"), "solver.anderson_depth", 3);
-  knobs = with(knobs, "solver.compliance", 0.03);
+  knobs = with(with(knobs, "solver.compliance", 0.03), "solver.p_gap", 0.3);
   World w(build_scene(knobs, "knobs.json"));
   EXPECT_NE(packing_key(w.scene()), packing_key(build_scene(bed(), "a.json")));
   EXPECT_NO_THROW((void)load_packing(file, w));
   EXPECT_GT(w.state().step, 0);
-  World other(build_scene(with(with(bed(), "solver.tolerance", 1e-7), "solver.p_gap", 0.3), "gap.json"));
+  World other(build_scene(with(with(bed(), "solver.tolerance", 1e-7), "materials.friction", 0.3), "mu.json"));
   try {
     (void)load_packing(file, other);
-    FAIL() << "a packing made with p_gap 0.1 was accepted for p_gap 0.3";
+    FAIL() << "a packing made with the default friction was accepted for 0.3";
   } catch (const StateFileError& e) {
-    EXPECT_THAT(e.what(), HasSubstr("field 'solver.p_gap'"));
+    EXPECT_THAT(e.what(), HasSubstr("field 'materials' is absent in the packing's scene and {\"friction\":0.3}"));
   }
+  // Without a settle section the packing's step counts in its own h: another h is refused.
+  World finer(build_scene(with(bed(), "time.dt", 0.0025), "finer.json"));
+  try {
+    (void)load_packing(file, finer);
+    FAIL() << "a packing of a scene without settle section was accepted for another time step";
+  } catch (const StateFileError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("field 'time.dt'"));
+  }
+  fs::remove_all(d);
+}
+
+// With a settle section a run from the packing may take another h: it counts its steps
+// from the packing's state at its own h, and its protocol from the packing's time.
+TEST(Packing, WithASettleSectionTheTimeStepMayDiffer) {
+  const fs::path d = scratch("dt");
+  const std::string file = (d / "p.state").string();
+  (void)packing_of(settled(), file);
+  const StateFile f = read_state_file(file);
+  const double h = build_scene(settled(), "a.json").dt;
+  World finer(build_scene(with(settled(), "time.dt", h / 2), "finer.json"));
+  ASSERT_NO_THROW((void)load_packing(file, finer));
+  EXPECT_EQ(finer.state().t, f.state.t);
+  const SceneDef& s = finer.scene();
+  EXPECT_EQ(s.steps - f.state.step, static_cast<std::int64_t>(std::llround(s.settle.run_time / (h / 2))));
+  EXPECT_EQ(s.thermal.start_time, f.state.t + s.settle.rest_time);
+  const RunResult r = run_world(finer, {});
+  EXPECT_NEAR(finer.state().t, f.state.t + s.settle.run_time, 1e-9);
+  EXPECT_TRUE(r.summary.is_object());
   fs::remove_all(d);
 }
 

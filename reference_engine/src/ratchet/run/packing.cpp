@@ -54,16 +54,22 @@ void differences(const json& a, const json& b, const std::string& path, std::vec
                 " in the packing's scene and " + shown(b) + " in this one");
 }
 
-// How closely the solve converges, and the contact compliance: a packing fixes the bed,
-// and a run from it may vary these, so that settings are compared on the same bed (the
-// study of what accuracy costs; docs/cli.md). A compliance moves a rested bed's overlaps
-// by less than the contact margin (docs/method.md s. 5).
-constexpr const char* kSolveKnobs[] = {"tolerance", "criterion", "max_iterations", "acceleration", "anderson_depth",
-                                      "compliance"};
+// How closely the solve converges, the contact compliance and the gap relaxation: a
+// packing fixes the bed, and a run from it may vary these, so that settings are compared
+// on the same bed (the study of what accuracy costs; docs/cli.md). A compliance moves a
+// rested bed's overlaps by less than the contact margin (docs/method.md s. 5); p_gap
+// only sets how fast the overlaps left are closed.
+constexpr const char* kSolveKnobs[] = {"tolerance",      "criterion",  "max_iterations", "acceleration",
+                                      "anderson_depth", "compliance", "p_gap"};
 
 json without_solve_knobs(json scene) {
   if (scene.is_object() && scene.contains("solver") && scene["solver"].is_object())
     for (const char* k : kSolveKnobs) scene["solver"].erase(k);
+  // The time step too, when a settle section ends the stage: the run then counts its
+  // steps from the packing's state at its own h (World::end_settle_stage). Without one
+  // the packing's step number is in the packing's h.
+  if (scene.is_object() && scene.contains("settle") && scene.contains("time") && scene["time"].is_object())
+    scene["time"].erase("dt");
   return scene;
 }
 
