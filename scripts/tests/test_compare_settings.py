@@ -84,8 +84,28 @@ def test_second_call_resumes(done):
     assert {p: p.stat().st_mtime_ns for p in (out / "runs").glob("*/run.json")} == before
 
 
+def test_a_knob_that_shapes_the_bed_pours_a_bed_per_setting(tmp_path):
+    """pack_each_setting: the particle count varies, so each setting runs from its own
+    beds, poured with its fields; the plain plan would be refused by `ratchet run`."""
+    settings = {"n20": {}, "n12": {"particles.generate.count": 12}}
+    plan = write_plan(tmp_path, reference="n20", settings=settings, seeds=[1, 2], pack_each_setting=True)
+    r = call(plan, "--out", tmp_path / "out", "--jobs", "2")
+    assert r.returncode == 0, r.stderr
+    for n, count in (("n20", 20), ("n12", 12)):
+        for s in (1, 2):
+            run = json.loads((tmp_path / "out" / "runs" / f"{n}-s{s}" / "run.json").read_text())
+            assert run["bodies"] == count
+            assert run["packing"]["file"].endswith(f"{n}-s{s}.state")
+    (tmp_path / "shared_plan").mkdir()
+    shared = write_plan(tmp_path / "shared_plan", reference="n20", settings=settings, seeds=[1, 2])
+    r = call(shared, "--out", tmp_path / "shared")
+    assert r.returncode == 1  # a shared bed of 20 cannot start a run of 12
+    assert "failed" in r.stderr
+
+
 @pytest.mark.parametrize("fields, expected", [
     ({"setings": {}}, "field 'setings': unknown field"),
+    ({"pack_each_setting": "yes"}, "field 'pack_each_setting': expected true or false"),
     ({"reference": "none"}, "field 'reference': expected one of the settings"),
     ({"seeds": [1]}, "at least 2 seeds"),
     ({"scene": "missing.json"}, "no such file"),
