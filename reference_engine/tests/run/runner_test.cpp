@@ -187,7 +187,7 @@ TEST(RunWorld, AWallThatOutrunsTheContactMarginIsAWarning) {
   // Heating in one step moves the side walls by alpha_c dT r = 1e-3 x 100 x 5 = 0.5;
   // cooling over 50 steps by 0.01 per step, below the margin.
   EXPECT_NE(w.find("in 1 of "), std::string::npos) << w;
-  EXPECT_NE(w.find("a container wall moved farther than solver.contact_margin = 0.05 per step along its normal "
+  EXPECT_NE(w.find("a container wall moved along its normal farther than solver.contact_margin = 0.05 per step "
                    "(at most 0.5"),
             std::string::npos)
       << w;

@@ -88,25 +88,22 @@ nlohmann::json RunWarnings::sentences(const World& world) const {
     out.push_back(std::to_string(scene.redrawn_particles) + " generated particle(s) were slivers (inradius below " +
                   std::to_string(kMinInradius) +
                   " of their radius) and were drawn again: particles.generate.vertices is low");
-  if (first_fast_ >= 0) {
+  // Bodies and walls that outrun the margin: the same sentence, what moved and the cure.
+  auto travel = [&](const char* what, std::int64_t count, double largest, std::int64_t first, const char* cure) {
     std::snprintf(text, sizeof text,
-                  "in %lld of %lld steps a body moved farther than solver.contact_margin = %.3g per step (at most "
-                  "%.3g, the first at step %lld): contacts may be found only after they overlap; a smaller "
-                  "time.dt or a larger margin avoids it",
-                  static_cast<long long>(fast_steps_), steps, scene.solver.contact_margin, fastest_travel_,
-                  static_cast<long long>(first_fast_));
+                  "in %lld of %lld steps %s farther than solver.contact_margin = %.3g per step (at most %.3g, the "
+                  "first at step %lld): %s",
+                  static_cast<long long>(count), steps, what, scene.solver.contact_margin, largest,
+                  static_cast<long long>(first), cure);
     out.push_back(text);
-  }
-  if (first_fast_wall_ >= 0) {
-    std::snprintf(text, sizeof text,
-                  "in %lld of %lld steps a container wall moved farther than solver.contact_margin = %.3g per step "
-                  "along its normal (at most %.3g, the first at step %lld): the thermal protocol changes the "
-                  "container scale faster than contacts can follow; longer heat_time/cool_time or a smaller "
-                  "time.dt avoids it",
-                  static_cast<long long>(fast_wall_steps_), steps, scene.solver.contact_margin, fastest_wall_travel_,
-                  static_cast<long long>(first_fast_wall_));
-    out.push_back(text);
-  }
+  };
+  if (first_fast_ >= 0)
+    travel("a body moved", fast_steps_, fastest_travel_, first_fast_,
+           "contacts may be found only after they overlap; a smaller time.dt or a larger margin avoids it");
+  if (first_fast_wall_ >= 0)
+    travel("a container wall moved along its normal", fast_wall_steps_, fastest_wall_travel_, first_fast_wall_,
+           "the thermal protocol changes the container scale faster than contacts can follow; longer "
+           "heat_time/cool_time or a smaller time.dt avoids it");
   return out;
 }
 
