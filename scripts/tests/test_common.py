@@ -249,7 +249,7 @@ def test_git_commit_and_dirty_state(tmp_path):
 
 def _python_sources():
     files = [p for p in SCRIPTS.rglob("*.py") if "tests" not in p.parts]
-    files += [SCRIPTS / "trends", SCRIPTS / "compare-methods", SCRIPTS / "compare-settings", SCRIPTS / "accuracy-pareto",
+    files += [SCRIPTS / "trends", SCRIPTS / "compare-methods", SCRIPTS / "compare-settings", SCRIPTS / "accuracy-pareto", SCRIPTS / "method-cost",
               SCRIPTS / "plot-run", SCRIPTS / "bench-cycled", REPO / "regression" / "run"]
     files += list((REPO / "regression").glob("*.py")) + list((REPO / "validation").rglob("*.py"))
     return files
