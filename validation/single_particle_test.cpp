@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <string>
 
 #include "ratchet/run/runner.hpp"
@@ -86,6 +87,7 @@ class JammedSphere : public ::testing::TestWithParam<double> {};
 struct JamTrace {
   double force_hold_first = -1.0, force_hold_min = HUGE_VAL, force_hold_max = 0.0, force_end = -1.0, max_ke = 0.0;
   int unconverged_steps = 0;
+  std::int64_t jammed_steps = 0;
 };
 
 JamTrace run_jam(const SceneDef& scene) {
@@ -105,32 +107,34 @@ JamTrace run_jam(const SceneDef& scene) {
     }
     j.force_end = F;
   });
+  j.jammed_steps = world.stats().jammed_steps;
   return j;
 }
 
 // A sphere growing into two fixed walls has no rigid solution: the sweeps hit
-// max_iterations with the normal impulse growing with the sweep count. The engine must
-// keep that from compounding over steps: the force must not grow while nothing moves
-// (the hold at T1), must vanish once the sphere has shrunk back, and the kinetic energy
-// must stay at the expansion drift (1/2) m (eps_p r)^2.
-TEST_P(JammedSphere, WallForcesStayBoundedAndKineticEnergySmall) {
+// max_iterations with the normal impulse growing with the sweep count. The step then
+// yields to the jam (World::yield_to_jam): solved again without the imposed expansion
+// and relaxation, the sphere keeps the overlap and no force is needed, since nothing
+// loads it (no gravity). Before, the force was set by the cap, the same every step of
+// the hold but meaningless. The kinetic energy must stay at the expansion drift
+// (1/2) m (eps_p r)^2 and the force vanish once the sphere has shrunk back.
+TEST_P(JammedSphere, YieldsWithoutForceAndKineticEnergyAtTheDrift) {
   const double p_gap = GetParam();
   const std::string case_name = "jammed sphere, p_gap = " + validation::format_number(p_gap);
   SceneDef scene = load_scene(kDir + "sphere_walls.json", {"solver.p_gap=" + validation::format_number(p_gap)});
   const ThermalProtocol& th = scene.thermal;
   const JamTrace j = run_jam(scene);
-  const double force_hold_first = j.force_hold_first, force_hold_max = j.force_hold_max, force_end = j.force_end,
-               max_ke = j.max_ke;
-  const int unconverged_steps = j.unconverged_steps;
   const double eps = th.alpha_p * (th.T1 - th.T0) / th.heat_time;  // d s_p / dt on the ramps
   const double drift_ke = 0.5 * scene.bodies[0].mass * eps * eps;   // r = 1
-  EXPECT_GT(unconverged_steps, 0);  // the jam is real: it must show in the solver record
-  EXPECT_GT(force_hold_first, 0.0);
-  EXPECT_TRUE(check_rel(case_name, "max wall force during the hold / its first value", force_hold_max / force_hold_first,
-                        1.0, 1e-9, "nothing moves during the hold: the force must not grow from step to step"));
-  EXPECT_TRUE(check_near(case_name, "wall force after cooling back", force_end, 0.0, 0.0,
+  // The jam is real: it must show in the solver record.
+  EXPECT_GT(j.unconverged_steps, 0);
+  EXPECT_TRUE(validation::record(case_name, "steps solved as jams", static_cast<double>(j.jammed_steps), "> 0", "-",
+                                 j.jammed_steps > 0, "the sphere outgrows the walls by 0.008: no rigid solution"));
+  EXPECT_TRUE(check_near(case_name, "largest wall force during the hold", j.force_hold_max, 0.0, 0.0,
+                         "no load presses the sphere (no gravity): the yielded step needs no force"));
+  EXPECT_TRUE(check_near(case_name, "wall force after cooling back", j.force_end, 0.0, 0.0,
                          "the sphere is smaller than the gap again"));
-  EXPECT_TRUE(check_le(case_name, "max kinetic energy / drift energy (1/2) m (eps r)^2", max_ke / drift_ke,
+  EXPECT_TRUE(check_le(case_name, "max kinetic energy / drift energy (1/2) m (eps r)^2", j.max_ke / drift_ke,
                        1.0 + 1e-6, "no energy beyond the imposed expansion drift"));
 }
 

@@ -68,6 +68,37 @@ TEST(RunWorld, RowsAtEveryNthStepAndTheLast) {
   fs::remove_all(d);
 }
 
+// A sphere that outgrows the fixed walls around it has no rigid solution: its capped
+// steps are solved again as jams, counted in run.json and named in a warning
+// (docs/method.md, "Infeasible jam").
+TEST(RunWorld, JammedStepsAreCountedAndNamedInRunJson) {
+  const fs::path d = scratch("jam");
+  json scene = json::parse(R"({
+    "name": "jam", "time": {"dt": 0.001, "duration": 3.0},
+    "effects": {"gravity": false},
+    "solver": {"tolerance": 1e-8, "max_iterations": 200},
+    "thermal": {"T0": 0, "T1": 100, "heat_time": 2, "hold_time": 1, "cool_time": 2, "cycles": 1,
+                "alpha_p": 1e-4, "alpha_c": 0},
+    "container": {"type": "planes", "planes": [{"normal": [1, 0, 0], "point": [-1.002, 0, 0]},
+                                               {"normal": [-1, 0, 0], "point": [1.002, 0, 0]}]},
+    "particles": {"bodies": [{"shape": "sphere", "radius": 1.0, "position": [0, 0, 0]}]},
+    "outputs": {"volume": false}
+  })");
+  World world(build_scene(scene, "jam.json"));
+  RunOptions opt;
+  opt.out_dir = d.string();
+  const RunResult r = run_world(world, opt);
+  std::ifstream in(d / "run.json");
+  const json meta = json::parse(in);
+  const auto jammed = meta.at("counters").at("jammed_steps").get<long long>();
+  EXPECT_GT(jammed, 0);  // from T = 20 (t = 0.4) the sphere is wider than the gap
+  EXPECT_LE(jammed, meta.at("counters").at("unconverged_steps").get<long long>());
+  bool named = false;
+  for (const auto& w : r.warnings) named |= w.get<std::string>().find(std::to_string(jammed) + " of these steps were jams") != std::string::npos;
+  EXPECT_TRUE(named) << meta.at("warnings").dump();
+  fs::remove_all(d);
+}
+
 // The iteration cap is meant to be out of reach: a run whose steps stop there says so in
 // run.json, with the count and the first such step (docs/output-format.md).
 TEST(RunWorld, StepsStoppedAtTheCapAreAWarningInRunJson) {
@@ -93,6 +124,7 @@ TEST(RunWorld, StepsStoppedAtTheCapAreAWarningInRunJson) {
   const json meta = json::parse(in);
   EXPECT_EQ(meta.at("warnings"), r.warnings);
   EXPECT_EQ(meta.at("counters").at("unconverged_steps"), 5);
+  EXPECT_EQ(meta.at("counters").at("jammed_steps"), 0);  // one sweep has no second half to grow over
   // The summary (and so a sweep's summary.csv) carries it beside the observables.
   EXPECT_EQ(meta.at("summary").at("unconverged_steps"), 5);
   EXPECT_EQ(meta.at("summary").at("unconverged_fraction"), 1.0);

@@ -24,6 +24,7 @@ nlohmann::json progress_json(const WorldProgress& p) {
           {"tangential_solves", p.tangential_solves},
           {"total_iterations", p.total_iterations},
           {"unconverged_steps", p.unconverged_steps},
+          {"jammed_steps", p.jammed_steps},
           {"phase_seconds", seconds},
           {"phase_calls", calls}};
 }
@@ -37,6 +38,7 @@ WorldProgress progress_from_json(const nlohmann::json& j) {
   p.tangential_solves = j.at("tangential_solves").get<std::int64_t>();
   p.total_iterations = j.at("total_iterations").get<std::int64_t>();
   p.unconverged_steps = j.at("unconverged_steps").get<std::int64_t>();
+  p.jammed_steps = j.at("jammed_steps").get<std::int64_t>();
   const auto& seconds = j.at("phase_seconds");
   const auto& calls = j.at("phase_calls");
   if (seconds.size() != p.timers.seconds.size() || calls.size() != p.timers.calls.size())

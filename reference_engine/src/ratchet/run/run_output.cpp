@@ -157,7 +157,8 @@ nlohmann::json run_metadata(const World& world) {
   j["steps"] = world.state().step;
   j["counters"] = {{"tangential_solves", world.stats().tangential_solves},
                    {"solver_iterations", world.stats().total_iterations},
-                   {"unconverged_steps", world.stats().unconverged_steps}};
+                   {"unconverged_steps", world.stats().unconverged_steps},
+                   {"jammed_steps", world.stats().jammed_steps}};
   return j;
 }
 

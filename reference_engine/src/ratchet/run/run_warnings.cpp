@@ -26,6 +26,24 @@ double largest_wall_travel(const World& world, double s_c_before) {
   return travel;
 }
 
+std::string squeeze_warning(const SceneDef& scene) {
+  const ThermalProtocol& p = scene.thermal;
+  if (!p.enabled || p.cycles == 0 || scene.container.type != ContainerDef::Type::Cone) return {};
+  const Effects& e = scene.effects;
+  const double s_p = e.particle_expansion ? 1.0 + p.alpha_p * (p.T1 - p.T0) : 1.0;
+  const double s_c = e.container_expansion
+                         ? 1.0 + p.alpha_c * (p.T1 - p.T0) : 1.0;
+  const double room = s_c / s_p;
+  if (!(room < 1.0)) return {};
+  char text[400];
+  std::snprintf(text, sizeof text,
+                "at T1 the container scale over the particle scale is %.4g (s_c = %.4g, s_p = %.4g): the bed has %.3g %% "
+                "less room than it was poured in, so it must rise out of the container or jam; the thermal.alpha_c "
+                "and thermal.alpha_p of the paper give a ratio of at least 1",
+                room, s_c, s_p, 100.0 * (1.0 - room));
+  return text;
+}
+
 RunWarnings::RunWarnings(const nlohmann::json& saved)
     : first_capped_(saved.at("first_capped").get<std::int64_t>()),
       first_capped_t_(number_from_json(saved.at("first_capped_t"))),
@@ -75,13 +93,23 @@ nlohmann::json RunWarnings::sentences(const World& world) const {
   const SceneDef& scene = world.scene();
   const long long steps = static_cast<long long>(world.state().step);
   nlohmann::json out = nlohmann::json::array();
-  char text[400];
+  char text[640];
+  if (const std::string squeeze = squeeze_warning(scene); !squeeze.empty()) out.push_back(squeeze);
   if (first_capped_ >= 0) {
     std::snprintf(text, sizeof text,
                   "%lld of %lld steps stopped at solver.max_iterations = %d sweeps unconverged, the first at step %lld "
                   "(t = %.6g, residual %.3g against the tolerance %.3g)",
                   static_cast<long long>(world.stats().unconverged_steps), steps, scene.solver.max_iterations,
                   static_cast<long long>(first_capped_), first_capped_t_, first_capped_residual_, scene.solver.tolerance);
+    out.push_back(text);
+  }
+  if (world.stats().jammed_steps > 0) {
+    std::snprintf(text, sizeof text,
+                  "%lld of these steps were jams (the rigid contact problem had no solution: the normal impulses "
+                  "still grew at the cap) and were solved again without the imposed expansion and gap relaxation, "
+                  "so the bodies kept the overlap the expansion made (docs/method.md, \"Infeasible jam\"); "
+                  "solver.compliance > 0 gives such contacts a finite stiffness instead",
+                  static_cast<long long>(world.stats().jammed_steps));
     out.push_back(text);
   }
   if (scene.redrawn_particles > 0)

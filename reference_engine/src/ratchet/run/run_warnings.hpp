@@ -38,6 +38,12 @@ class RunWarnings {
   double fastest_wall_travel_ = 0.0;
 };
 
+// A thermal protocol that leaves the container less room relative to the particles than
+// the bed was poured in (s_c / s_p below 1 at T1; both scales are linear in T): the bed
+// must rise out of the container or jam, which rigid contacts cannot do quietly. Empty
+// when there is no such squeeze (every ratio alpha_c / alpha_p >= 1 of the paper).
+std::string squeeze_warning(const SceneDef& scene);
+
 // The largest distance a body's centre moved in the last step (|v| h of the free bodies).
 double largest_body_travel(const World& world);
 

@@ -103,6 +103,8 @@ RunResult run_world(World& world, const RunOptions& options, const std::function
   RunObservers observers = resuming ? RunObservers(world, options.out_dir, saved.at("observers"))
                                     : RunObservers(world, options.out_dir);
   RunWarnings warnings = resuming ? RunWarnings(saved.at("warnings")) : RunWarnings();
+  if (const std::string squeeze = squeeze_warning(scene); !resuming && !squeeze.empty())
+    std::fprintf(stderr, "%s: warning: %s\n", scene.source.c_str(), squeeze.c_str());
   // A run from a packing starts after its settle stage and reports the packing's record.
   std::optional<SettleMonitor> settle;
   if (resuming) {

@@ -113,6 +113,7 @@ WorldProgress World::progress() const {
   p.tangential_solves = stats_.tangential_solves;
   p.total_iterations = stats_.total_iterations;
   p.unconverged_steps = stats_.unconverged_steps;
+  p.jammed_steps = stats_.jammed_steps;
   p.timers = timers_;
   return p;
 }
@@ -127,6 +128,7 @@ void World::restore_progress(const WorldProgress& p) {
   stats_.tangential_solves = p.tangential_solves;
   stats_.total_iterations = p.total_iterations;
   stats_.unconverged_steps = p.unconverged_steps;
+  stats_.jammed_steps = p.jammed_steps;
   timers_ = p.timers;
 }
 
@@ -153,16 +155,49 @@ void World::solve() {
   settings.rotation = rotation_on_;
   if (scene_.solver.acceleration == Acceleration::Anderson) settings.anderson_depth = scene_.solver.anderson_depth;
   if (settings.by_velocity || settings.anderson_depth > 0) { scratch_.solver.v_free = state_.v; scratch_.solver.w_free = state_.w; }
+  scratch_.v_free = state_.v;
+  scratch_.w_free = state_.w;
   warm_start(bodies);
-  const NsgsResult r = solve_nsgs(scratch_.rows, bodies, settings, scratch_.solver);
-  stats_.iterations = r.sweeps;
-  stats_.converged = r.converged;
-  stats_.normal_growth = r.normal_growth;
-  stats_.residual = r.residual;
-  if (!r.converged) ++stats_.unconverged_steps;
-  stats_.tangential_solves += r.tangential_solves;
-  stats_.total_iterations += r.sweeps;
+  NsgsResult r = solve_nsgs(scratch_.rows, bodies, settings, scratch_.solver);
+  int sweeps = r.sweeps;
+  std::int64_t tangential = r.tangential_solves;
+  const bool jammed = r.normal_growth && scene_.solver.compliance == 0.0;
+  const double first_residual = r.residual;
+  if (jammed) {
+    yield_to_jam(bodies);
+    r = solve_nsgs(scratch_.rows, bodies, settings, scratch_.solver);
+    sweeps += r.sweeps;
+    tangential += r.tangential_solves;
+    ++stats_.jammed_steps;
+  }
+  stats_.iterations = sweeps;
+  stats_.converged = r.converged && !jammed;
+  stats_.normal_growth = jammed || r.normal_growth;
+  stats_.residual = jammed ? first_residual : r.residual;  // the problem posed, not the one yielded
+  if (!stats_.converged) ++stats_.unconverged_steps;
+  stats_.tangential_solves += tangential;
+  stats_.total_iterations += sweeps;
   for (std::size_t k = 0; k < scratch_.contacts.size(); ++k) scratch_.contacts[k].lambda = scratch_.rows[k].lambda;
+}
+
+// 4b. A rigid problem with no solution (the normal impulses still grew at the cap): bodies
+// that outgrow the room they have, a jam. Rigid bodies cannot make room, and pushing
+// with impulses set by the cap would give the bed energy from nowhere, so the step is
+// solved again, from the free velocities and cold, with what the step imposes taken
+// out: the expansion velocities and the separation an overlap asks for. That problem
+// always has a solution (the bodies at rest satisfy it), the contacts only take energy,
+// and the overlap of the jam grows by the imposed expansion until the geometry frees it
+// (docs/method.md, "Infeasible jam"). Compliant contacts always have a solution and never
+// come here.
+void World::yield_to_jam(SolverBodies& bodies) {
+  bodies.v = scratch_.v_free;
+  bodies.w = scratch_.w_free;
+  for (SolverRow& r : scratch_.rows) {
+    r.u0.setZero();
+    r.bias = std::max(r.bias, 0.0);
+    r.bias_capped = 0.0;
+    r.lambda.setZero();
+  }
 }
 
 // 5. Positions: x += h ((1 - theta) v(t) + theta v(t+h)); orientation by the exponential

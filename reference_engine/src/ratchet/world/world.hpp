@@ -36,6 +36,7 @@ struct StepStats {
   std::int64_t tangential_solves = 0;  // accumulated over the run
   std::int64_t total_iterations = 0;   // accumulated over the run
   std::int64_t unconverged_steps = 0;  // steps that hit solver.max_iterations
+  std::int64_t jammed_steps = 0;       // rigid steps solved again without the imposed motion (World::yield_to_jam)
   bool converged = true;               // the last step met the tolerance
   bool normal_growth = false;          // ... and if not, its normal impulses still grew
 };
@@ -47,7 +48,7 @@ struct WorldProgress {
   bool settling = false;
   double start_time = 0.0, duration = 0.0;  // scene().thermal.start_time, scene().duration
   std::int64_t steps = 0;                   // scene().steps
-  std::int64_t tangential_solves = 0, total_iterations = 0, unconverged_steps = 0;
+  std::int64_t tangential_solves = 0, total_iterations = 0, unconverged_steps = 0, jammed_steps = 0;
   PhaseTimers timers;
 };
 
@@ -86,6 +87,7 @@ class World {
   void thermal();
   void detect();
   void solve();
+  void yield_to_jam(SolverBodies& bodies);
   void integrate();
   void keep_impulses();
   void observe();
