@@ -46,6 +46,9 @@ def _parse(argv: Sequence[str] | None) -> argparse.Namespace:
                              "else OUT/checks)")
     parser.add_argument("--tier", choices=trends.TIERS, default="quick",
                         help="tier of the sweeps; sets the tolerances (default: quick)")
+    parser.add_argument("--scale", metavar="TEXT",
+                        help="what the sweeps' beds are, shown with the headline (default: the "
+                             "tier's description); the tier still sets the tolerances")
     parser.add_argument("--no-plots", action="store_true", help="skip the figures")
     parser.add_argument("--list-checks", action="store_true",
                         help="print the check definitions (rules, tolerances, reasons) and exit")
@@ -122,14 +125,14 @@ def main(argv: Sequence[str] | None = None) -> int:
 
     meta = {
         "Date": _dt.datetime.now(_dt.timezone.utc).strftime("%Y-%m-%d %H:%M:%S UTC"),
-        "Tier": f"{args.tier} ({trends.TIER_SCALE[args.tier]})",
+        "Tier": f"{args.tier} ({args.scale or trends.TIER_SCALE[args.tier]})",
         "Sweeps": ", ".join(f"{s.folder} ({'+'.join(s.kinds) or 'not recognized'}, "
                             f"{len(s.completed)}/{len(s.summary)} runs completed)" for s in sweeps),
     }
     total = output.counts(results)
     document = {
         "tier": args.tier,
-        "tier_scale": trends.TIER_SCALE[args.tier],
+        "tier_scale": args.scale or trends.TIER_SCALE[args.tier],
         "generated": meta["Date"],
         "sweeps": [{"folder": str(s.folder), "name": s.name, "kinds": s.kinds,
                     "parameters": s.parameters, "runs": len(s.summary),

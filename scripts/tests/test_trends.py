@@ -711,3 +711,19 @@ def test_the_executable_entry_runs_with_debians_python(tmp_path):
     assert listed.returncode == 0
     for check_id in trends.CHECKS:
         assert check_id in listed.stdout
+
+
+def test_cli_scale_describes_the_beds_and_the_tier_still_sets_the_tolerances(tmp_path, capsys):
+    """scripts/validate's headline checks small beds at the standard tier's tolerances and
+    says so: --scale replaces the tier's description, not its tolerances."""
+    folder = build_sweep(tmp_path / "a", "angle", ANGLES, halving)
+    text = "400 polyhedra at 0 and 6 deg"
+    assert run_cli(folder, "--out", tmp_path / "o", "--tier", "standard", "--scale", text, "--no-plots",
+                   capsys=capsys)[0] == 0
+    document = json.loads((tmp_path / "o" / "trends.json").read_text())
+    assert document["tier"] == "standard" and document["tier_scale"] == text
+    halving_check = next(c for c in document["checks"] if c["id"] == "pmax_ratio_6_0")
+    assert "max(0.25," in halving_check["tolerance"]  # the standard tier's floor, not the quick one's 0.35
+    assert run_cli(folder, "--out", tmp_path / "p", "--tier", "standard", "--no-plots", capsys=capsys)[0] == 0
+    default = json.loads((tmp_path / "p" / "trends.json").read_text())
+    assert default["tier_scale"] == trends.TIER_SCALE["standard"]
