@@ -59,11 +59,12 @@ HTML_TEMPLATE = "report.html.j2"
 #: Stored results of the larger tiers (scripts/trends --store), shown in every report.
 RESULTS_DIR = REPO_ROOT / "validation" / "results"
 NO_SWEEP_TEXT = (
-    "This run ran no sweep, so it measures none of the paper's trends itself: the quick "
-    "tier's sweeps (45 particles, one realization per point, `scripts/validate --sweeps`) "
-    "do not resolve the 6 deg halving or the quadratic fits (docs/trends.md). The stored "
-    "results of larger tiers follow, with their date and engine commit; a not-resolved row "
-    "says what it would take.")
+    "This run ran no sweep, so it measures none of the paper's trends itself: the default "
+    "scripts/validate runs the headline sweeps (400 and 200 polyhedra, about 8 minutes on "
+    "2 cores, docs/accuracy-cost.md) unless --no-headline; the quick tier's own sweeps (45 "
+    "particles, scripts/validate --sweeps) do not resolve the 6 deg halving or the quadratic "
+    "fits (docs/trends.md). The stored results of larger tiers follow, with their date and "
+    "engine commit; a not-resolved row says what it would take.")
 
 #: Fields of one JSON line, in the order the writer emits them.
 FIELDS = ("case", "check", "measured", "expected", "tolerance", "reason", "passed")

@@ -49,6 +49,11 @@ def _parse(argv: Sequence[str] | None) -> argparse.Namespace:
     parser.add_argument("--scale", metavar="TEXT",
                         help="what the sweeps' beds are, shown with the headline (default: the "
                              "tier's description); the tier still sets the tolerances")
+    parser.add_argument("--out-of-scale", metavar="ID=REASON", action="append", default=[],
+                        help="a check whose paper statement does not cover these beds (e.g. the "
+                             "paper's 10-cycle vorticity windows against a 3-cycle sweep): its "
+                             "measured value and verdict stay in the record, its status becomes "
+                             "not resolved with REASON; repeatable; ids: --list-checks")
     parser.add_argument("--no-plots", action="store_true", help="skip the figures")
     parser.add_argument("--list-checks", action="store_true",
                         help="print the check definitions (rules, tolerances, reasons) and exit")
@@ -67,6 +72,13 @@ def _parse(argv: Sequence[str] | None) -> argparse.Namespace:
         parser.error("give at least one SWEEP_OUT_DIR")
     if not args.out:
         parser.error("--out OUT is required")
+    args.out_of_scale_reasons = {}
+    for item in args.out_of_scale:
+        check_id, sep, reason = item.partition("=")
+        if not sep or not reason.strip() or check_id not in trends.CHECKS:
+            parser.error(f"--out-of-scale {item!r}: expected ID=REASON with ID one of "
+                         f"{', '.join(sorted(trends.CHECKS))}")
+        args.out_of_scale_reasons[check_id] = reason.strip()
     return args
 
 
@@ -108,7 +120,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         for kind in sweep.kinds:
             a = trends.analyse(sweep, kind, args.tier)
             analyses.append(a)
-            results += a.results
+            results += [trends.out_of_scale(r, args.out_of_scale_reasons.get(r.check_id))
+                        for r in a.results]
             notes += [f"{a.case}: {n}" for n in a.notes]
             if args.no_plots:
                 continue

@@ -230,6 +230,21 @@ class CheckResult:
         return out
 
 
+def out_of_scale(result: CheckResult, reason: str | None) -> CheckResult:
+    """A passed or failed check whose paper statement does not cover the beds it ran on
+    (scripts/trends --out-of-scale): not resolved, with the measured value and the verdict
+    the tier's tolerance gave kept in view. Skipped and unresolved checks stay as they are."""
+    if not reason or result.status not in ("passed", "failed"):
+        return result
+    verdict = "pass" if result.status == "passed" else "fail"
+    return CheckResult(case=result.case, check=result.check, check_id=result.check_id,
+                       status="unresolved", measured=result.measured, expected=result.expected,
+                       tolerance=result.tolerance,
+                       reason=(f"not resolved at this scale: {reason} (the tolerance alone would "
+                               f"{verdict} it). {result.reason}"),
+                       detail={**result.detail, "verdict_at_tolerance": result.status})
+
+
 def _skip(case: str, definition: CheckDef, check: str, why: str, tier: str) -> CheckResult:
     return CheckResult(case=case, check=check, check_id=definition.id, status="skipped",
                        measured=None, expected="", tolerance="",

@@ -727,3 +727,30 @@ def test_cli_scale_describes_the_beds_and_the_tier_still_sets_the_tolerances(tmp
     assert run_cli(folder, "--out", tmp_path / "p", "--tier", "standard", "--no-plots", capsys=capsys)[0] == 0
     default = json.loads((tmp_path / "p" / "trends.json").read_text())
     assert default["tier_scale"] == trends.TIER_SCALE["standard"]
+
+
+def test_cli_out_of_scale_turns_a_verdict_into_not_resolved_and_keeps_it_in_view(tmp_path, capsys):
+    """The headline's 3-cycle vorticity against the paper's 10-cycle windows: a failing
+    slope is not a failure of the run, but its value and verdict must stay visible."""
+    folder = build_sweep(tmp_path / "a", "angle", ANGLES, lambda t: 10.0 + 0.01 * t)  # no lowering: R about 1
+    plain = run_cli(folder, "--out", tmp_path / "o", "--tier", "standard", "--no-plots", capsys=capsys)
+    assert plain[0] == 1  # the halving check fails on this sweep
+    marked = run_cli(folder, "--out", tmp_path / "p", "--tier", "standard", "--no-plots",
+                     "--out-of-scale", "pmax_ratio_6_0=the beds are too small",
+                     "--out-of-scale", "pmax_theta_slope=the beds are too small", capsys=capsys)
+    assert marked[0] == 0  # the two failing checks (halving, slope) are no longer failures
+    document = json.loads((tmp_path / "p" / "trends.json").read_text())
+    check = next(c for c in document["checks"] if c["id"] == "pmax_ratio_6_0")
+    before = next(c for c in json.loads((tmp_path / "o" / "trends.json").read_text())["checks"]
+                  if c["id"] == "pmax_ratio_6_0")
+    assert check["status"] == "unresolved" and check["resolved"] is False
+    assert check["measured"] == before["measured"]
+    assert check["detail"]["verdict_at_tolerance"] == "failed"
+    assert check["reason"].startswith("not resolved at this scale: the beds are too small (the tolerance alone would fail it)")
+    marked_ids = ("pmax_ratio_6_0", "pmax_theta_slope")
+    others = [c["status"] for c in document["checks"] if c["id"] not in marked_ids]
+    assert others == [c["status"] for c in json.loads((tmp_path / "o" / "trends.json").read_text())["checks"]
+                      if c["id"] not in marked_ids]
+    with pytest.raises(SystemExit) as raised:
+        cli.main([str(folder), "--out", str(tmp_path / "q"), "--out-of-scale", "no_such_check=x"])
+    assert raised.value.code == 2
