@@ -174,6 +174,31 @@ TEST(RunWorld, ABodyOutsideTheContainerStopsTheRunNamingIt) {
   fs::remove_all(d);
 }
 
+// A body thrown across the room: 60 per step against its radius 0.5, above the floor, so
+// neither outside the container nor overlapping; but it could pass through anything of
+// its size between two detections. A diverging solve ends the same way before a NaN.
+TEST(RunWorld, ABodyFasterThanItsSizePerStepStopsTheRunNamingIt) {
+  const fs::path d = scratch("fast_body");
+  World world(build_scene(json::parse(R"({
+    "name": "thrown", "time": {"dt": 0.1, "duration": 1.0},
+    "container": {"type": "planes", "planes": [{"normal": [0, 0, 1], "point": [0, 0, 0]}]},
+    "particles": {"bodies": [{"shape": "sphere", "radius": 0.5, "position": [0, 0, 5], "velocity": [600, 0, 0]}]}
+  })"), "thrown.json"));
+  RunOptions opt;
+  opt.out_dir = d.string();
+  try {
+    run_world(world, opt);
+    ADD_FAILURE() << "the run completed";
+  } catch (const RunError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("thrown.json: the state became unphysical at step 1"), std::string::npos) << what;
+    EXPECT_NE(what.find("body 0 moved 60 in one step"), std::string::npos) << what;
+    EXPECT_NE(what.find("bounding radius 0.5"), std::string::npos) << what;
+  }
+  EXPECT_EQ(json::parse(std::ifstream(d / "run.json")).at("status"), "failed");
+  fs::remove_all(d);
+}
+
 // Within the bounds, the same scene with a sane step runs to the end.
 TEST(RunWorld, TheSameFallWithASmallStepCompletes) {
   World world(build_scene(json::parse(R"({

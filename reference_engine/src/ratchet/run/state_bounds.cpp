@@ -58,6 +58,23 @@ std::string unphysical_state(const World& world) {
       return text;
     }
   }
+  // A body that moved more than its own size in one step can pass through another body
+  // or a wall between two detections: the step no longer resolves the motion. Energy
+  // that grows without bound (a diverging solve) reaches this long before a NaN.
+  const double h = scene.dt;
+  for (int i = 0; i < n; ++i) {
+    const BodyDef& b = scene.bodies[static_cast<std::size_t>(i)];
+    if (b.fixed) continue;
+    const double travel = s.v[static_cast<std::size_t>(i)].norm() * h;
+    const double size = b.bounding_radius * world.body_scale(i);
+    if (travel > size) {
+      char text[320];
+      std::snprintf(text, sizeof text, "body %d moved %.3g in one step (speed %.3g, time.dt %.3g), more than its "
+                    "bounding radius %.3g: the step cannot resolve its motion (a diverging solve, or time.dt too "
+                    "large for the speeds of the scene)", i, travel, travel / h, h, size);
+      return text;
+    }
+  }
   return "";
 }
 
