@@ -34,13 +34,16 @@ def call(*args):
 def test_means_and_costs_are_those_of_each_seeds_comparison(tmp_path):
     scene = tmp_path / "scene.json"
     scene.write_text(json.dumps(SCENE))
-    r = call(scene, "--out", tmp_path / "out", "--seeds", 1, 2, 3, "--E", 5e6, "--jobs", 2)
+    r = call(scene, "--out", tmp_path / "out", "--seeds", 1, 2, 3, "--E", 5e6, "--jobs", 2,
+             "--restitution", 0.5, "--dt-fraction", 0.2)
     assert r.returncode == 0, r.stderr
     res = json.loads((tmp_path / "out" / "comparison.json").read_text())
     assert res["settings"] == ["NSCD", "DEM E=5e6"]
     nscd, dem, cost = [], [], []
     for s in (1, 2, 3):
         summary = json.loads((tmp_path / "out" / f"seed{s}" / "summary.json").read_text())
+        # the DEM knobs reach LIGGGHTS (time step as a fraction of the Rayleigh time)
+        assert summary["options"]["restitution"] == 0.5 and summary["options"]["dt_fraction"] == 0.2
         nscd.append(summary["cycles"]["nscd_peak_pressure"][0])
         dem.append(summary["cycles"]["dem_E5e06_peak_pressure"][0])
         cost.append(next(t["wall_seconds"] for t in summary["timings"] if t["method"] == "dem"))
