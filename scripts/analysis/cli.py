@@ -180,7 +180,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     except OSError as problem:
         return error(f"cannot write the results: {problem}")
 
-    print(f"trends: tier {args.tier}: {trends.TIER_SCALE[args.tier]}")
+    print(f"trends: tier {args.tier}: {args.scale or trends.TIER_SCALE[args.tier]}")
     if results:
         print(output.terminal_table(results))
     for r in results:
