@@ -388,9 +388,12 @@ def _verdict(passed: int, failed: int, unresolved: int = 0) -> str:
 
 
 def accuracy_figures(results_dir: Path) -> list[Path]:
-    """Stored accuracy-cost figures (results_dir/accuracy/*.png, docs/accuracy-cost.md)."""
+    """Stored accuracy-cost figures (results_dir/accuracy/*.png, docs/accuracy-cost.md):
+    the overview (pareto.png, every knob in one figure) first, then the studies by name."""
     folder = Path(results_dir) / "accuracy"
-    return sorted(folder.glob("*.png")) if folder.is_dir() else []
+    if not folder.is_dir():
+        return []
+    return sorted(folder.glob("*.png"), key=lambda f: (f.stem != "pareto", f.name))
 
 
 ACCURACY_TEXT = ("What each accuracy knob changes in the observables against what it costs, "

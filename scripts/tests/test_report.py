@@ -433,6 +433,9 @@ def test_the_report_shows_what_accuracy_costs(folders):
         caption = figure.with_suffix(".txt").read_text(encoding="utf-8").strip()
         assert caption in section
         assert os.path.relpath(figure, out).replace(os.sep, "/") in section
+    # The overview (every knob in one figure) leads the section.
+    first = section.index("](")
+    assert os.path.relpath(STORED / "accuracy" / "pareto.png", out).replace(os.sep, "/") in section[first:].split(")", 1)[0]
     page = (out / "report.html").read_text(encoding="utf-8")
     assert page.count("data:image/png;base64,") >= len(figures)
 
