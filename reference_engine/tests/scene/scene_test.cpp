@@ -387,6 +387,43 @@ TEST(SceneFuzzFindings, AreSceneErrors) {
     EXPECT_NE(std::string(e.what()).find("field 'particles.generate.region': expected at most 10^6 lattice sites"),
               std::string::npos) << e.what();
   }
+  try {
+    load_scene(dir + "/scene_derived_duration_overflow.json");
+    ADD_FAILURE() << "accepted";
+  } catch (const SceneError& e) {
+    EXPECT_NE(std::string(e.what()).find("scene_derived_duration_overflow.json: field 'thermal': expected at most 1e15 "
+                                         "time steps"),
+              std::string::npos) << e.what();
+  }
+}
+
+// Step counts beyond int64 (std::llround undefined) or below one step are refused naming
+// the field the span came from, also when it is derived from the thermal protocol.
+TEST(Scene, StepCountsOutOfRangeNameTheirField) {
+  const auto error = [](const json& j) {
+    try {
+      build_scene(j, "s.json");
+    } catch (const SceneError& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  const json base = {{"name", "s"}, {"time", {{"dt", 0.01}, {"duration", 1.0}}},
+                     {"particles", {{"bodies", {{{"shape", "sphere"}, {"radius", 0.5}, {"position", {0, 0, 1}}}}}}}};
+  json huge = base;
+  huge["time"]["duration"] = 1e300;
+  EXPECT_EQ(error(huge).rfind("s.json: field 'time.duration': expected at most 1e15 time steps", 0), 0u) << error(huge);
+  json derived = base;
+  derived["time"].erase("duration");
+  derived["thermal"] = {{"T0", 0}, {"T1", 1}, {"heat_time", 1e-9}, {"hold_time", 0}, {"cool_time", 1e-9}, {"cycles", 1},
+                        {"alpha_p", 1e-4}, {"alpha_c", 1e-4}};
+  EXPECT_EQ(error(derived).rfind("s.json: field 'thermal': expected at least one time step", 0), 0u) << error(derived);
+  json settle = derived;
+  settle["thermal"]["heat_time"] = 1.0;
+  settle["thermal"]["cool_time"] = 1.0;
+  settle["settle"] = {{"ke_ratio", 1e-6}, {"max_time", 1e300}};
+  EXPECT_EQ(error(settle).rfind("s.json: field 'settle.max_time': expected at most 1e15 time steps", 0), 0u)
+      << error(settle);
 }
 
 }  // namespace

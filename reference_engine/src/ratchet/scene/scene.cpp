@@ -604,6 +604,16 @@ bool within(const std::string& inner, const std::string& outer) {
          (inner.size() == outer.size() || inner[outer.size()] == '.' || inner[outer.size()] == '[');
 }
 
+// Time steps of `span` at `dt`, refused (naming `field`) below one step and above
+// kMaxSteps, where std::llround would leave the range of int64 (undefined behaviour).
+constexpr double kMaxSteps = 1e15;  // 1e15 steps of even a single body take decades
+std::int64_t step_count(const Reader& r, const std::string& field, double span, double dt, const json* value) {
+  const double n = span / dt;
+  if (!(n >= 0.5)) r.fail(field, "at least one time step (duration >= dt / 2)", value);
+  if (!(n <= kMaxSteps)) r.fail(field, "at most 1e15 time steps (duration / time.dt)", value);
+  return static_cast<std::int64_t>(std::llround(n));
+}
+
 SceneDef build_scene_with(const json& j, const std::string& source,
                           std::function<std::string(const std::string&)> origin_of) {
   Reader r{source, std::move(origin_of)};
@@ -632,8 +642,11 @@ SceneDef build_scene_with(const json& j, const std::string& source,
   } else {
     r.fail("time.duration", "a positive duration (or a thermal protocol with cycles to derive it from)");
   }
-  s.steps = static_cast<std::int64_t>(std::llround(s.duration / s.dt));
-  if (s.steps < 1) r.fail("time.duration", "at least one time step (duration >= dt / 2)", &time.at("duration"));
+  // A duration derived from the thermal protocol is named by the protocol's fields.
+  const bool derived = !time.contains("duration");
+  const std::string span_field = derived ? "thermal" : "time.duration";
+  const json* span_value = derived ? nullptr : &time.at("duration");
+  s.steps = step_count(r, span_field, s.duration, s.dt, span_value);
   if (s.settle.enabled) {
     // Times written in the scene count from the end of the settle stage; until it is
     // known, assume the latest (SettleDef).
@@ -641,8 +654,7 @@ SceneDef build_scene_with(const json& j, const std::string& source,
     s.settle.run_time = s.duration;
     s.thermal.start_time = s.settle.max_time + s.settle.rest_time;
     s.duration = s.settle.max_time + s.settle.run_time;
-    s.steps = static_cast<std::int64_t>(std::llround(s.settle.max_time / s.dt)) +
-              static_cast<std::int64_t>(std::llround(s.settle.run_time / s.dt));
+    s.steps = step_count(r, "settle.max_time", s.settle.max_time, s.dt, &j.at("settle").at("max_time")) + s.steps;
   }
   read_particles(r, r.required(j, "", "particles", "an object {generate and/or bodies}"), s);
   s.as_run = j;
