@@ -395,6 +395,13 @@ TEST(SceneFuzzFindings, AreSceneErrors) {
                                          "time steps"),
               std::string::npos) << e.what();
   }
+  try {
+    load_scene(dir + "/scene_flat_box_half_extents.json");
+    ADD_FAILURE() << "accepted";
+  } catch (const SceneError& e) {
+    EXPECT_NE(std::string(e.what()).find("field 'particles.bodies[0].half_extents': the smallest half extent"),
+              std::string::npos) << e.what();
+  }
 }
 
 // Step counts beyond int64 (std::llround undefined) or below one step are refused naming

@@ -328,15 +328,18 @@ PolyhedronBuild build_convex_polyhedron(const std::vector<Vec3>& points, const s
   return out;
 }
 
-PolyhedronBuild build_box(const Vec3& h) {
-  if (!h.allFinite() || !(h.minCoeff() > 0.0))
-    throw std::invalid_argument("box: half extents must be positive and finite");
+PolyhedronBuild build_box(const Vec3& h, const std::string& what) {
+  if (!h.allFinite() || !(h.minCoeff() > 0.0)) fail(what, "half extents must be positive and finite");
+  // Below this the hull's flatness test (thickness 2 min h against extent <= 2 |h|) would
+  // call the box collinear or coplanar; say why instead.
+  if (!(h.minCoeff() > kFlatTolerance * h.norm()))
+    fail(what, "the smallest half extent is not above 1e-9 of the half diagonal; expected a solid box");
   std::vector<Vec3> corners;
   for (int i = 0; i < 8; ++i)
     corners.emplace_back((i & 1) ? h.x() : -h.x(), (i & 2) ? h.y() : -h.y(), (i & 4) ? h.z() : -h.z());
   // Qhull gives the topology; the box keeps its own axes (they are principal) and
   // exact corners, so build_box(h).shape spans [-h, h] whatever the moment order.
-  PolyhedronBuild out = build_convex_polyhedron(corners, "box");
+  PolyhedronBuild out = build_convex_polyhedron(corners, what);
   out.centroid = Vec3::Zero();
   out.rotation = Mat3::Identity();
   out.shape.vertices = corners;  // all 8 corners are hull vertices, kept in input order
@@ -344,7 +347,7 @@ PolyhedronBuild build_box(const Vec3& h) {
   out.shape.volume = v;
   const Vec3 h2 = h.cwiseProduct(h);
   out.shape.principal_inertia = v / 3.0 * Vec3(h2.y() + h2.z(), h2.x() + h2.z(), h2.x() + h2.y());
-  finish_shape(out.shape, "box");
+  finish_shape(out.shape, what);
   return out;
 }
 

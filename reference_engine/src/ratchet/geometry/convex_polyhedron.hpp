@@ -67,7 +67,8 @@ std::string point_cloud_defect(const std::vector<Vec3>& points);
 
 // Closed-form helper: the axis-aligned box with the given half extents. Keeps the
 // input axes (rotation = identity, vertices exactly +-h), so principal_inertia is in
-// x, y, z order rather than ascending. Throws std::invalid_argument unless h > 0, finite.
-PolyhedronBuild build_box(const Vec3& half_extents);
+// x, y, z order rather than ascending. Throws std::invalid_argument naming `what` unless
+// h > 0, finite, and its smallest component is more than 1e-9 of |h|.
+PolyhedronBuild build_box(const Vec3& half_extents, const std::string& what = "box");
 
 }  // namespace ratchet

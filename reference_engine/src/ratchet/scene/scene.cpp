@@ -322,7 +322,7 @@ void read_listed_bodies(const Reader& r, const json& list, SceneDef& s) {
         if (shape == "box") {
           const Vec3 he = r.vec3(r.required(j, f, "half_extents", "[a, b, c] half extents"), f + ".half_extents");
           if (!(he.minCoeff() > 0.0)) r.fail(f + ".half_extents", "three positive half extents", &j.at("half_extents"));
-          build = build_box(he);
+          build = build_box(he, r.where(f + ".half_extents") + ": field '" + f + ".half_extents'");
         } else {
           const json& vs = r.required(j, f, "vertices", "a list of at least 4 points [x, y, z]");
           if (!vs.is_array() || vs.size() < 4) r.fail(f + ".vertices", "a list of at least 4 points [x, y, z]", &vs);
