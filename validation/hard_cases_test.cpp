@@ -421,8 +421,9 @@ TEST_P(FastCooling, CompletesWithEnergyBelowGravityPlusWallWork) {
                                      "measured 10.075 (2026-11-24), the pour's peak: the one-step jump is met as an "
                                      "overlap and removed at the capped speed, adding nothing; factor 2"));
   }
-  if (cool <= h)  // the whole 0.5 in one step, ten margins: the run must say its walls outran the contacts
+  if (cool <= h) {  // the whole 0.5 in one step, ten margins: the run must say its walls outran the contacts
     EXPECT_TRUE(warned(o, "a container wall moved"));
+  }
   const double travel = ds * rc * std::min(1.0, h / cool);
   EXPECT_TRUE(validation::check_le(name, "deepest overlap over the run", o.overlap_max, travel + 0.05,
                                    "the wall's travel in one step (" + validation::format_number(travel) +

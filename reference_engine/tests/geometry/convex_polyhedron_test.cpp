@@ -372,7 +372,9 @@ TEST(ConvexPolyhedron, BuildBoxRejectsBadExtents) {
     EXPECT_EQ(std::string(e.what()).rfind("b.json: field 'half_extents': the smallest half extent is not above 1e-9", 0),
               0u) << e.what();
   }
-  EXPECT_NEAR(build_box(Vec3(1, 1, 1e-8)).shape.volume, 8e-8, 1e-20);  // thin but solid: kept
+  // Thin but solid: kept. The volume is the closed form 8 abc, so only its rounding
+  // (~1e-23 here) separates it from 8e-8; 1e-20 leaves room for that and nothing else.
+  EXPECT_NEAR(build_box(Vec3(1, 1, 1e-8)).shape.volume, 8e-8, 1e-20);
 }
 
 }  // namespace

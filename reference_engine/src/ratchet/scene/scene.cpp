@@ -635,17 +635,17 @@ SceneDef build_scene_with(const json& j, const std::string& source,
   const json& time = r.required(j, "", "time", "an object {dt, duration}");
   r.object(time, "time", {"dt", "duration"});
   s.dt = r.positive(time, "time", "dt", s.dt);
+  std::string span_field = "time.duration";  // the field an error about the step count names
+  const json* span_value = nullptr;
   if (time.contains("duration")) {
     s.duration = r.positive(time, "time", "duration", 0.0);
+    span_value = &time.at("duration");
   } else if (s.thermal.enabled && s.thermal.cycles > 0) {
     s.duration = s.thermal.start_time + s.thermal.cycles * s.thermal.cycle_time();
+    span_field = "thermal";  // derived: named by the protocol's fields
   } else {
     r.fail("time.duration", "a positive duration (or a thermal protocol with cycles to derive it from)");
   }
-  // A duration derived from the thermal protocol is named by the protocol's fields.
-  const bool derived = !time.contains("duration");
-  const std::string span_field = derived ? "thermal" : "time.duration";
-  const json* span_value = derived ? nullptr : &time.at("duration");
   s.steps = step_count(r, span_field, s.duration, s.dt, span_value);
   if (s.settle.enabled) {
     // Times written in the scene count from the end of the settle stage; until it is
