@@ -191,6 +191,120 @@ CHECKS: dict[str, CheckDef] = {c.id: c for c in (
 )}
 
 
+#: Fig. 5, Fig. 6 and the steady state (issue 30 part 3), evaluated in analysis/fields.py
+#: from each run's stage_fields.csv and cycles.csv.
+_K_FIELDS = {"quick": {"k": 1.0}, "standard": {"k": 2.0}, "paper": {"k": 2.0}}
+_K_FIELDS_REASONS = {
+    "quick": "k = 1: one realization per point, so the SE is the cycle-to-cycle scatter of "
+             "3 cycles of a 45-grain bed; a sign one SE beyond 0 is all it can show",
+    "standard": "k = 2: about 97.5 % one-sided confidence for a normal estimate",
+    "paper": "k = 2: about 97.5 % one-sided confidence for a normal estimate (SE over 5 "
+             "realizations)",
+}
+CHECKS.update({c.id: c for c in (
+    CheckDef(
+        id="stage_heating_direction", sweep="both", check="heating: outward and downward ({point})",
+        figure="Fig. 5",
+        rule="grain means over the heating of each cycle, averaged over the cycles: u_r of the grains "
+             "off the axis (cells from ir = 1) and u_z of all grains; passed when u_r > k SE and "
+             "u_z < -k SE, failed when either is beyond k SE on the other side, else not resolved; "
+             "SE over the realizations (>= 2), else over the one run's cycles",
+        tolerance=_K_FIELDS,
+        reason="paper: during heating the grains move outwards and downwards (Fig. 5): the "
+               "container widens more than the grains grow (alpha_c > alpha_p) and the bed slumps",
+        tier_reasons=_K_FIELDS_REASONS),
+    CheckDef(
+        id="stage_cooling_direction", sweep="both", check="cooling: inward and upward ({point})",
+        figure="Fig. 5",
+        rule="as stage_heating_direction over the cooling (from the end of heating to the end of "
+             "cooling): passed when u_r < -k SE and u_z > k SE",
+        tolerance=_K_FIELDS,
+        reason="paper: during cooling the grains move inwards and upwards (Fig. 5): the "
+               "contracting container squeezes the bed",
+        tier_reasons=_K_FIELDS_REASONS),
+    CheckDef(
+        id="still_zone", sweep="both", check="still zone at the bottom ({point})",
+        figure="Fig. 5",
+        rule="f = grain mean of the stage displacement magnitude (heating and cooling alike) in the "
+             "cells with r < R/3 and z < H/4 (R, H the bed's radius and height; at least the cell on "
+             "the axis at the floor) over that of the whole bed, averaged over the cycles: passed "
+             "when f + k SE < f_max, failed when f - k SE >= f_max, else not resolved",
+        tolerance={"quick": {"f_max": 0.5, "k": 1.0}, "standard": {"f_max": 0.4, "k": 2.0},
+                   "paper": {"f_max": 0.3, "k": 2.0}},
+        reason="paper: a still conical zone at the bottom, grains that hardly move (Fig. 5)",
+        tier_reasons={
+            "quick": "f_max 0.5, k = 1: cells of 2 grain sizes, so the bottom-axis cell holds "
+                     "grains of the zone's edge too",
+            "standard": "f_max 0.4, k = 2: a bed a few cells wide still mixes the zone's edge "
+                        "into its bottom-axis cells",
+            "paper": "f_max 0.3, k = 2: 'hardly move' read as under a third of the bed's mean; "
+                     "the paper gives no number"}),
+    CheckDef(
+        id="toroidal_cell", sweep="both", check="toroidal convection cell ({point})",
+        figure="Fig. 6",
+        rule="per run, the cumulative field (heating + cooling summed over the second half of "
+             "the cycles) and its vorticity w on the interior cells; coherence "
+             "s = sum w / sum |w| (1 or -1: one sense over the whole core); passed when every "
+             "realization has |s| >= s_min with one sense, failed when realizations with "
+             "|s| >= s_min turn opposite ways or every |s| < s_fail, else not resolved",
+        tolerance={"quick": {"s_min": 0.3, "s_fail": 0.0}, "standard": {"s_min": 0.4, "s_fail": 0.0},
+                   "paper": {"s_min": 0.5, "s_fail": 0.2}},
+        reason="paper: toroidal convection cells in every case (Fig. 6): the accumulated "
+               "displacement turns one way around a ring in the (r, z) plane",
+        tier_reasons={
+            "quick": "s_min 0.3, never failed on coherence: a 45-grain bed over 2 cycles has "
+                     "few interior cells and its cumulative field is mostly noise",
+            "standard": "s_min 0.4, never failed on coherence: 6 cycles leave the cumulative "
+                        "field noisy",
+            "paper": "s_min 0.5 (three quarters of |w| turning one way); below 0.2 in every "
+                     "realization there is no dominant cell, against the paper"}),
+    CheckDef(
+        id="steady_time_theta", sweep="angle", check="cycles to the steady state vs theta_c",
+        figure="Results text, Fig. 3a",
+        rule="per run the first cycle whose peak pressure lies in the steady band: mean of the "
+             "second half of the cycles +- max(2 sigma, 5 % of it), sigma their standard "
+             "deviation; linear fit over all runs: passed when slope + k SE < 0, failed when "
+             "slope - k SE > 0, else not resolved; skipped below min_cycles",
+        tolerance={"quick": {"k": 1.0, "min_cycles": 6}, "standard": {"k": 2.0, "min_cycles": 6},
+                   "paper": {"k": 2.0, "min_cycles": 6}},
+        reason="paper: the steady state comes sooner at larger opening angles",
+        tier_reasons={
+            "quick": "skipped: 3 cycles have no steady half to measure against",
+            "standard": "k = 2; 6 cycles resolve the time to steady state only to 1-3 cycles",
+            "paper": "k = 2 over 25 runs; 2 sigma holds about 95 % of normally scattered steady "
+                     "peaks, the 5 % floor keeps the band open when they agree closely"}),
+    CheckDef(
+        id="steady_volume_flat", sweep="both", check="steady V/V0 vs {x}",
+        figure="Fig. 4",
+        rule="per run the mean V/V0 at the end of cooling over the second half of the cycles; "
+             "linear fit over all runs: |slope| <= k SE, not resolved when k SE x range exceeds "
+             "FLAT_RESOLUTION of the mean; skipped below min_cycles",
+        tolerance={"quick": {"k": 3.0, "min_cycles": 6}, "standard": {"k": 2.5, "min_cycles": 6},
+                   "paper": {"k": 2.0, "min_cycles": 6}},
+        reason="paper: the same steady density for all parameters (Fig. 4)",
+        tier_reasons={
+            "quick": "skipped: 3 cycles reach no steady density",
+            "standard": "k = 2.5: a few realizations per point leave SE uncertain",
+            "paper": "k = 2: consistent with zero at about 95 % two-sided confidence"}),
+    CheckDef(
+        id="cooling_dilation_ratio", sweep="ratio", check="dilation during cooling vs alpha_c/alpha_p",
+        figure="Fig. 4b",
+        rule="per run the mean over the second half of the cycles of V/V0 at the end of heating "
+             "minus V/V0 at the end of cooling (the dilation the cooling takes back; our reading "
+             "of the paper's words); linear fit over all runs: passed when "
+             "slope - k SE > 0, failed when slope + k SE < 0, else not resolved; skipped below "
+             "min_cycles",
+        tolerance={"quick": {"k": 1.0, "min_cycles": 6}, "standard": {"k": 2.0, "min_cycles": 6},
+                   "paper": {"k": 2.0, "min_cycles": 6}},
+        reason="paper: the dilation during cooling is weaker at small alpha_c (Fig. 4b): with "
+               "alpha_c near alpha_p bed and container shrink alike, the swing is the grains' own",
+        tier_reasons={
+            "quick": "skipped: 3 cycles have no steady half",
+            "standard": "k = 2: about 97.5 % one-sided confidence",
+            "paper": "k = 2 over 25 runs"}),
+)})
+
+
 # --------------------------------------------------------------------------- results
 
 
@@ -571,6 +685,8 @@ def analyse(sweep: Sweep, kind: str, tier: str, case: str | None = None) -> Anal
                                       w_def.check.format(window=window.label.replace("cycles ", "")),
                                       direction))
     a.results.extend(_volume_checks(a))
+    from . import fields  # Fig. 5, Fig. 6, steady state; it imports this module
+    a.results.extend(fields.checks(a))
     capped = sorted(r for r in data["run"] if int(r) in sweep.capped)
     if capped:
         worst = max(sweep.capped[int(r)] for r in capped)

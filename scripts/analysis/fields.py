@@ -1,0 +1,547 @@
+"""The paper's Fig. 5 and Fig. 6 statements and its steady-state statements, measured.
+
+Inputs (docs/output-format.md): a run's ``stage_fields.csv`` (outputs.displacement.stages:
+the displacement over each heating and each cooling, averaged over the polar angle on
+the (r, z) cells, both stages of a cycle binned where the grains were at the start of
+that cycle) and its ``cycles.csv`` (peak pressure, V/V0 at the ends of heating and
+cooling). Per run this module returns numbers with uncertainties; ``checks(a)`` turns
+them into the CheckResults of the checks defined in trends.CHECKS (``stage_*``,
+``still_zone``, ``toroidal_cell``, ``steady_*``, ``cooling_dilation_ratio``).
+
+Uncertainties: per run, the standard error over its cycles (the bed's own noise); per
+sweep point, the standard error over the realizations when there are at least two,
+else the one run's standard error.
+
+Signs: u_r > 0 is away from the axis, u_z > 0 upward. The circulation of a field in
+the (r, z) half-plane, r to the right and z up, is Gamma = sum over interior cells of
+w h^2 with w = du_z/dr - du_r/dz (the vorticity of docs/output-format.md): Gamma > 0
+is counter-clockwise, grains rising along the wall and sinking at the axis; Gamma < 0
+sinking along the wall and rising at the axis.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from . import fits
+from .inputs import read_csv_columns, read_cycles, run_dir
+
+#: The checks this module evaluates (their definitions: trends.CHECKS).
+CHECK_IDS = ("stage_heating_direction", "stage_cooling_direction", "still_zone", "toroidal_cell",
+             "steady_time_theta", "steady_volume_flat", "cooling_dilation_ratio")
+STAGE_FILE = "stage_fields.csv"
+STAGE_COLUMNS = ("cycle", "ir", "iz", "r", "z", "count", "ur_heating", "uz_heating",
+                 "ur_cooling", "uz_cooling")
+#: The bottom-axis region whose grains the paper sees still: cells whose centre lies
+#: within this fraction of the bed's radius from the axis and of its height above the
+#: floor (a cone of still grains fits in it; at least the cell on the axis at the floor).
+STILL_R_FRACTION = 1.0 / 3.0
+STILL_Z_FRACTION = 1.0 / 4.0
+#: The steady band of the peak pressure: mean of the steady cycles (the second half)
+#: +- max(BAND_SIGMAS sigma, BAND_FLOOR mean), sigma their sample standard deviation:
+#: 2 sigma holds about 95 % of the steady peaks if they scatter normally; the floor
+#: keeps the band open when a few steady peaks happen to agree closely.
+BAND_SIGMAS = 2.0
+BAND_FLOOR = 0.05
+
+
+class FieldsError(Exception):
+    """A stage_fields.csv that exists but does not follow the format."""
+
+
+@dataclass
+class StageFields:
+    """The stage fields of one run on the (ir, iz) grid: arrays [cycle, iz, ir]."""
+
+    path: Path
+    cell: float
+    cycles: np.ndarray          # the cycle numbers, ascending
+    count: np.ndarray           # 0 where a cell is empty
+    ur_heating: np.ndarray      # NaN where a cell is empty
+    uz_heating: np.ndarray
+    ur_cooling: np.ndarray
+    uz_cooling: np.ndarray
+
+    @property
+    def r(self) -> np.ndarray:
+        return (np.arange(self.count.shape[2]) + 0.5) * self.cell
+
+    @property
+    def z(self) -> np.ndarray:
+        return (np.arange(self.count.shape[1]) + 0.5) * self.cell
+
+    def cumulative(self, cycles=None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(u_r, u_z, populated) of heating plus cooling summed over `cycles` (default
+        all): a cell counts where it is populated in every one of them."""
+        pick = np.ones(len(self.cycles), bool) if cycles is None else np.isin(self.cycles, list(cycles))
+        if not pick.any():
+            raise ValueError(f"{self.path}: none of the cycles {list(cycles)} is in the file")
+        populated = (self.count[pick] > 0).all(axis=0)
+        ur = np.nansum(self.ur_heating[pick] + self.ur_cooling[pick], axis=0)
+        uz = np.nansum(self.uz_heating[pick] + self.uz_cooling[pick], axis=0)
+        return np.where(populated, ur, np.nan), np.where(populated, uz, np.nan), populated
+
+
+def read_stage_fields(folder: Path | None) -> StageFields | None:
+    """The stage fields of a run folder; None when it has no stage_fields.csv. Raises
+    FieldsError naming the file and the column for a file that breaks the format."""
+    if folder is None:
+        return None
+    path = Path(folder) / STAGE_FILE
+    if not path.is_file():
+        return None
+    frame = read_csv_columns(path, STAGE_COLUMNS)
+    if frame is None:
+        raise FieldsError(f"{path}: cannot be read as CSV")
+    missing = [c for c in STAGE_COLUMNS if c not in frame.columns]
+    if missing:
+        raise FieldsError(f"{path}: missing column(s) {', '.join(missing)} (expected "
+                          f"{','.join(STAGE_COLUMNS)})")
+    for column in ("cycle", "ir", "iz", "count"):
+        values = frame[column].to_numpy(dtype=float)
+        if not np.all(np.isfinite(values)) or np.any(values < 0) or np.any(values != np.round(values)):
+            raise FieldsError(f"{path}: column '{column}': expected integers >= 0")
+    if frame.empty:
+        raise FieldsError(f"{path}: no rows (no cycle reached its end of cooling)")
+    ir, iz = frame["ir"].to_numpy(int), frame["iz"].to_numpy(int)
+    cells = frame["r"].to_numpy(float) / (ir + 0.5)
+    cell = float(np.median(cells))
+    if not cell > 0 or not np.allclose(cells, cell, rtol=1e-4):
+        raise FieldsError(f"{path}: column 'r': expected (ir + 1/2) cell with one cell size")
+    cycles = np.unique(frame["cycle"].to_numpy(int))
+    shape = (len(cycles), int(iz.max()) + 1, int(ir.max()) + 1)
+    index = np.searchsorted(cycles, frame["cycle"].to_numpy(int))
+    arrays = {}
+    for column in ("ur_heating", "uz_heating", "ur_cooling", "uz_cooling"):
+        grid = np.full(shape, np.nan)
+        grid[index, iz, ir] = frame[column].to_numpy(float)
+        arrays[column] = grid
+    count = np.zeros(shape, dtype=int)
+    count[index, iz, ir] = frame["count"].to_numpy(int)
+    return StageFields(path=path, cell=cell, cycles=cycles, count=count, **arrays)
+
+
+# --------------------------------------------------------------------------- statistics
+
+
+@dataclass
+class Estimate:
+    """A value with its standard error and where the error comes from."""
+
+    value: float
+    se: float
+    n: int
+    source: str            # "cycles" (one run's cycles) or "realizations"
+
+    def significance(self, sign: float) -> float:
+        """sign * value / se: how many standard errors beyond 0 on the side of `sign`."""
+        if not math.isfinite(self.value):
+            return math.nan
+        if not self.se > 0:
+            return math.copysign(math.inf, sign * self.value) if self.value else 0.0
+        return sign * self.value / self.se
+
+    def text(self, digits: int = 3) -> str:
+        se = f" +- {self.se:.{digits}g}" if math.isfinite(self.se) else " (no SE)"
+        return f"{self.value:.{digits}g}{se}"
+
+    def to_dict(self) -> dict:
+        return {"value": self.value, "se": self.se, "n": self.n, "source": self.source}
+
+
+def mean_se(values, source: str) -> Estimate:
+    """Mean and standard error (sample std / sqrt n; NaN for one value) of the finite values."""
+    v = np.asarray([x for x in values if x is not None and math.isfinite(x)], dtype=float)
+    if v.size == 0:
+        return Estimate(math.nan, math.nan, 0, source)
+    se = float(np.std(v, ddof=1) / math.sqrt(v.size)) if v.size > 1 else math.nan
+    return Estimate(float(v.mean()), se, int(v.size), source)
+
+
+def combine(per_run: list[Estimate]) -> Estimate:
+    """A sweep point from its realizations: the scatter between them when there are
+    two or more, else the one run's own (cycle) standard error."""
+    runs = [e for e in per_run if math.isfinite(e.value)]
+    if len(runs) >= 2:
+        return mean_se([e.value for e in runs], "realizations")
+    if len(runs) == 1:
+        return runs[0]
+    return Estimate(math.nan, math.nan, 0, "none")
+
+
+def steady_cycles_of(cycles: np.ndarray) -> np.ndarray:
+    """The second half of the cycles reached, as outputs.steady_cycles' default."""
+    cycles = np.sort(np.asarray(cycles))
+    return cycles[len(cycles) // 2:] if len(cycles) > 1 else cycles
+
+
+# --------------------------------------------------------------------------- per run
+
+
+def _weighted(values: np.ndarray, count: np.ndarray, mask: np.ndarray) -> float:
+    w = np.where(mask & (count > 0) & np.isfinite(values), count, 0)
+    return float((np.nan_to_num(values) * w).sum() / w.sum()) if w.sum() > 0 else math.nan
+
+
+def stage_directions(f: StageFields) -> dict[str, Estimate]:
+    """Grain means of u_r (over grains off the axis: cells from ir = 1 on) and of u_z
+    (all grains) on heating and on cooling, each averaged over the cycles with its
+    cycle-to-cycle standard error."""
+    off_axis = np.arange(f.count.shape[2])[None, :] >= 1
+    everywhere = np.ones(f.count.shape[1:], bool)
+    out = {}
+    for name, grid, mask in (("ur_heating", f.ur_heating, off_axis), ("uz_heating", f.uz_heating, everywhere),
+                             ("ur_cooling", f.ur_cooling, off_axis), ("uz_cooling", f.uz_cooling, everywhere)):
+        mask = np.broadcast_to(mask, f.count.shape[1:])
+        out[name] = mean_se([_weighted(grid[k], f.count[k], mask) for k in range(len(f.cycles))], "cycles")
+    return out
+
+
+def bed_extent(f: StageFields) -> tuple[float, float]:
+    """(radius, height) of the bed: the outer edges of the populated cells."""
+    populated = (f.count > 0).any(axis=0)
+    iz, ir = np.nonzero(populated)
+    return float((ir.max() + 1) * f.cell), float((iz.max() + 1) * f.cell)
+
+
+def still_region(f: StageFields) -> np.ndarray:
+    """The bottom-axis cells [iz, ir] (STILL_R_FRACTION, STILL_Z_FRACTION); at least
+    the cell on the axis at the floor."""
+    radius, height = bed_extent(f)
+    region = (f.r[None, :] < STILL_R_FRACTION * radius) & (f.z[:, None] < STILL_Z_FRACTION * height)
+    region[0, 0] = True
+    return region
+
+
+def still_zone_ratio(f: StageFields) -> Estimate:
+    """Mean magnitude |u| of the stage fields in the bottom-axis cells over that of the
+    whole bed (grain-weighted, heating and cooling alike), averaged over the cycles."""
+    region = still_region(f)
+    everywhere = np.ones_like(region)
+    ratios = []
+    for k in range(len(f.cycles)):
+        heat = np.hypot(f.ur_heating[k], f.uz_heating[k])
+        cool = np.hypot(f.ur_cooling[k], f.uz_cooling[k])
+        magnitude = 0.5 * (heat + cool)
+        whole = _weighted(magnitude, f.count[k], everywhere)
+        ratios.append(_weighted(magnitude, f.count[k], region) / whole if whole > 0 else math.nan)
+    return mean_se(ratios, "cycles")
+
+
+def vorticity(ur: np.ndarray, uz: np.ndarray, cell: float) -> np.ndarray:
+    """w = du_z/dr - du_r/dz by central differences on interior cells (populated, not on
+    the grid edge, four populated neighbours), NaN elsewhere: the rule of
+    observe/displacement_field.hpp."""
+    w = np.full(ur.shape, np.nan)
+    ok = np.isfinite(ur) & np.isfinite(uz)
+    inner = np.zeros_like(ok)
+    inner[1:-1, 1:-1] = ok[1:-1, 1:-1] & ok[1:-1, 2:] & ok[1:-1, :-2] & ok[2:, 1:-1] & ok[:-2, 1:-1]
+    dz_dr = np.full(ur.shape, np.nan)
+    dr_dz = np.full(ur.shape, np.nan)
+    dz_dr[1:-1, 1:-1] = (uz[1:-1, 2:] - uz[1:-1, :-2]) / (2 * cell)
+    dr_dz[1:-1, 1:-1] = (ur[2:, 1:-1] - ur[:-2, 1:-1]) / (2 * cell)
+    w[inner] = dz_dr[inner] - dr_dz[inner]
+    return w
+
+
+@dataclass
+class Circulation:
+    gamma: float           # sum of w h^2 over the interior cells of the cumulative field
+    coherence: float       # gamma / sum |w| h^2: 1 or -1 when w has one sign throughout
+    per_cycle: Estimate    # gamma of each cycle's heating + cooling: mean and SE
+    cells: int             # interior cells
+
+    @property
+    def sense(self) -> str:
+        if not math.isfinite(self.gamma) or self.gamma == 0:
+            return "none"
+        return "rising at the wall" if self.gamma > 0 else "sinking at the wall"
+
+
+def circulation(f: StageFields, cycles=None) -> Circulation:
+    """Circulation of the cumulative field (heating + cooling summed over `cycles`,
+    default: the steady cycles, the second half) over the bed's core (its interior
+    cells)."""
+    cycles = steady_cycles_of(f.cycles) if cycles is None else np.asarray(list(cycles))
+    ur, uz, _ = f.cumulative(cycles)
+    w = vorticity(ur, uz, f.cell)
+    area = f.cell ** 2
+    interior = np.isfinite(w)
+    gamma = float(np.sum(w[interior]) * area) if interior.any() else math.nan
+    total = float(np.sum(np.abs(w[interior])) * area) if interior.any() else math.nan
+    coherence = gamma / total if total and total > 0 else math.nan
+    each = []
+    for k in cycles:
+        cu, cz, _ = f.cumulative([k])
+        wk = vorticity(cu, cz, f.cell)
+        each.append(float(np.nansum(wk) * area) if np.isfinite(wk).any() else math.nan)
+    return Circulation(gamma, coherence, mean_se(each, "cycles"), int(interior.sum()))
+
+
+def cycles_to_steady(cycles: pd.DataFrame) -> dict:
+    """The first cycle whose peak pressure lies in the steady band (BAND_SIGMAS,
+    BAND_FLOOR) of the second half of the cycles. Returns {"cycle", "band", "mean",
+    "cycles"}; "cycle" is NaN with fewer than 2 cycles or no finite peak."""
+    if cycles is None or not {"cycle", "peak_pressure"}.issubset(cycles.columns):
+        return {"cycle": math.nan, "band": math.nan, "mean": math.nan, "cycles": 0}
+    frame = cycles.dropna(subset=["cycle", "peak_pressure"]).sort_values("cycle")
+    frame = frame[np.isfinite(frame["peak_pressure"])]
+    n = len(frame)
+    if n < 2:
+        return {"cycle": math.nan, "band": math.nan, "mean": math.nan, "cycles": n}
+    peaks = frame["peak_pressure"].to_numpy(float)
+    steady = peaks[n // 2:]
+    mean = float(steady.mean())
+    sigma = float(steady.std(ddof=1)) if steady.size > 1 else 0.0
+    band = max(BAND_SIGMAS * sigma, BAND_FLOOR * abs(mean))
+    inside = np.nonzero(np.abs(peaks - mean) <= band)[0]
+    first = float(frame["cycle"].to_numpy(float)[inside[0]]) if inside.size else math.nan
+    return {"cycle": first, "band": band, "mean": mean, "cycles": n}
+
+
+def steady_volume(cycles: pd.DataFrame) -> Estimate:
+    """V/V0 at the end of cooling over the steady cycles (second half): mean and SE."""
+    if cycles is None or "V_over_V0_end_cooling" not in cycles.columns:
+        return Estimate(math.nan, math.nan, 0, "cycles")
+    frame = cycles.sort_values("cycle")
+    values = frame["V_over_V0_end_cooling"].to_numpy(float)
+    return mean_se(values[len(values) // 2:], "cycles")
+
+
+def cooling_dilation(cycles: pd.DataFrame) -> Estimate:
+    """The dilation the cooling takes back: V/V0 at the end of heating minus V/V0 at the
+    end of cooling of the same cycle (> 0: the bed is larger hot than cooled), mean and
+    SE over the steady cycles. Our reading of the paper's "dilation during cooling"."""
+    if cycles is None or not {"V_over_V0_end_cooling", "V_over_V0_end_heating"}.issubset(cycles.columns):
+        return Estimate(math.nan, math.nan, 0, "cycles")
+    frame = cycles.sort_values("cycle")
+    values = (frame["V_over_V0_end_heating"] - frame["V_over_V0_end_cooling"]).to_numpy(float)
+    return mean_se(values[len(values) // 2:], "cycles")
+
+
+def run_measures(folder: Path | None) -> dict:
+    """Every number of this module for one run folder (None where its file is missing)."""
+    out: dict = {"folder": str(folder) if folder else None}
+    try:
+        fields = read_stage_fields(folder)
+    except FieldsError as problem:  # one bad file must not hide the other runs' checks
+        out["error"] = str(problem)
+        fields = None
+    if fields is not None:
+        out["directions"] = stage_directions(fields)
+        out["still_zone"] = still_zone_ratio(fields)
+        out["circulation"] = circulation(fields)
+        out["stage_cycles"] = len(fields.cycles)
+    cycles = read_cycles(folder) if folder else None
+    out["cycles_to_steady"] = cycles_to_steady(cycles)
+    out["steady_volume"] = steady_volume(cycles)
+    out["cooling_dilation"] = cooling_dilation(cycles)
+    out["cycles"] = 0 if cycles is None else int(len(cycles))
+    return out
+
+
+# --------------------------------------------------------------------------- checks
+
+
+def _three_way(score: float, k: float) -> str:
+    """passed beyond k SE on the expected side, failed beyond k SE on the other,
+    unresolved within."""
+    if not math.isfinite(score):
+        return "unresolved"
+    return "passed" if score > k else "failed" if score < -k else "unresolved"
+
+
+def _per_point(a) -> list[tuple[float, list[int], list[dict]]]:
+    """(parameter value, runs, their run_measures) per point of the analysis."""
+    out = []
+    for value in sorted(a.data[a.x].dropna().unique()):
+        runs = [int(r) for r in a.data.loc[np.isclose(a.data[a.x], value), "run"]]
+        out.append((float(value), runs, [run_measures(run_dir(a.sweep.folder, r)) for r in runs]))
+    return out
+
+
+def _missing(measures: list[dict]) -> str:
+    errors = sorted({m["error"] for m in measures if "error" in m})
+    if errors:
+        return "; ".join(errors)
+    return f"no {STAGE_FILE} in the run folders (the scene's outputs.displacement.stages is off)"
+
+
+def _direction_checks(a, points, trends) -> list:
+    out = []
+    for check_id, stage, signs in (("stage_heating_direction", "heating", (1.0, -1.0)),
+                                   ("stage_cooling_direction", "cooling", (-1.0, 1.0))):
+        d = trends.CHECKS[check_id]
+        k = d.params(a.tier)["k"]
+        for value, runs, measures in points:
+            check = d.check.format(point=a.point_label(value))
+            with_fields = [m for m in measures if "directions" in m]
+            if not with_fields:
+                out.append(trends._skip(a.case, d, check, _missing(measures), a.tier))
+                continue
+            ur = combine([m["directions"][f"ur_{stage}"] for m in with_fields])
+            uz = combine([m["directions"][f"uz_{stage}"] for m in with_fields])
+            scores = (ur.significance(signs[0]), uz.significance(signs[1]))
+            states = [_three_way(s, k) for s in scores]
+            status = "failed" if "failed" in states else "passed" if states == ["passed"] * 2 else "unresolved"
+            measured = min(scores)
+            want = ("outward (u_r > 0) and downward (u_z < 0)" if stage == "heating"
+                    else "inward (u_r < 0) and upward (u_z > 0)")
+            reason = d.reason_for(a.tier)
+            if status == "unresolved":
+                reason = f"not resolved: within {k:g} SE of zero. {reason}"
+            out.append(trends.CheckResult(
+                case=a.case, check=check, check_id=d.id, status=status, measured=measured,
+                expected=f"> {k:g} ({want})",
+                tolerance=f"{k:g} SE; u_r = {ur.text()}, u_z = {uz.text()} (SE over {ur.source}, n = {ur.n})",
+                reason=reason,
+                detail={"tier": a.tier, "k": k, "ur": ur.to_dict(), "uz": uz.to_dict(), "runs": runs}))
+    return out
+
+
+def _still_zone_checks(a, points, trends) -> list:
+    d = trends.CHECKS["still_zone"]
+    p = d.params(a.tier)
+    out = []
+    for value, runs, measures in points:
+        check = d.check.format(point=a.point_label(value))
+        with_fields = [m for m in measures if "still_zone" in m]
+        if not with_fields:
+            out.append(trends._skip(a.case, d, check, _missing(measures), a.tier))
+            continue
+        ratio = combine([m["still_zone"] for m in with_fields])
+        se = ratio.se if math.isfinite(ratio.se) else 0.0
+        if not math.isfinite(ratio.value):
+            out.append(trends._skip(a.case, d, check, "the bed's mean displacement is 0", a.tier))
+            continue
+        if ratio.value + p["k"] * se < p["f_max"]:
+            status = "passed"
+        elif ratio.value - p["k"] * se >= p["f_max"]:
+            status = "failed"
+        else:
+            status = "unresolved"
+        reason = d.reason_for(a.tier)
+        if status == "passed" and not math.isfinite(ratio.se):
+            status, reason = "unresolved", f"not resolved: one cycle gives no standard error. {reason}"
+        out.append(trends.CheckResult(
+            case=a.case, check=check, check_id=d.id, status=status, measured=ratio.value,
+            expected=f"< {p['f_max']:g}", tolerance=f"{p['k']:g} SE = {p['k'] * se:.3g} "
+                                                   f"(SE over {ratio.source}, n = {ratio.n})",
+            reason=reason, detail={"tier": a.tier, "ratio": ratio.to_dict(), "runs": runs}))
+    return out
+
+
+def _toroidal_checks(a, points, trends) -> list:
+    d = trends.CHECKS["toroidal_cell"]
+    p = d.params(a.tier)
+    out = []
+    for value, runs, measures in points:
+        check = d.check.format(point=a.point_label(value))
+        cells = [(r, m["circulation"]) for r, m in zip(runs, measures)
+                 if "circulation" in m and math.isfinite(m["circulation"].coherence)]
+        if not cells:
+            out.append(trends._skip(a.case, d, check, f"no {STAGE_FILE} with interior cells in the "
+                                    "run folders (a bed at least 3 cells wide and tall is needed)", a.tier))
+            continue
+        coherence = np.array([c.coherence for _, c in cells])
+        dominant = math.copysign(1.0, float(np.sum([c.gamma for _, c in cells])) or 1.0)
+        shown = np.abs(coherence) >= p["s_min"]
+        opposed = bool(np.any(shown & (np.sign(coherence) == dominant)) and
+                       np.any(shown & (np.sign(coherence) == -dominant)))
+        aligned = coherence * dominant
+        measured = float(aligned.min())
+        if opposed or float(np.abs(coherence).max()) < p["s_fail"]:
+            status = "failed"
+        elif bool(np.all(aligned >= p["s_min"])):
+            status = "passed"
+        else:
+            status = "unresolved"
+        reason = d.reason_for(a.tier)
+        if status == "unresolved":
+            reason = f"not resolved: a realization's coherence is below {p['s_min']:g}. {reason}"
+        sense = cells[0][1].sense if len({c.sense for _, c in cells}) == 1 else "mixed"
+        out.append(trends.CheckResult(
+            case=a.case, check=check, check_id=d.id, status=status, measured=measured,
+            expected=f">= {p['s_min']:g} in every realization, one sense",
+            tolerance=f"s_min {p['s_min']:g}, fails below {p['s_fail']:g} or with opposite senses; "
+                      f"sense: {sense}; coherence per run "
+                      + ", ".join(f"{r}: {c.coherence:+.2f}" for r, c in cells),
+            reason=reason,
+            detail={"tier": a.tier, "runs": [r for r, _ in cells], "gamma": [c.gamma for _, c in cells],
+                    "coherence": coherence.tolist(), "interior_cells": [c.cells for _, c in cells],
+                    "gamma_per_cycle": [c.per_cycle.to_dict() for _, c in cells], "sense": sense}))
+    return out
+
+
+def _trend_check(a, points, trends, check_id: str, key: str, direction: str) -> list:
+    """A slope of a per-run number against the swept parameter over all runs:
+    "decrease"/"increase": passed beyond k SE on the expected side, failed beyond k SE on
+    the other, unresolved within; "flat": |slope| <= k SE, failed beyond it, unresolved
+    when k SE x range exceeds FLAT_RESOLUTION of the mean."""
+    d = trends.CHECKS[check_id]
+    p = d.params(a.tier)
+    check = d.check.format(x=a.x_label)
+    xs, ys, cycles = [], [], []
+    for value, runs, measures in points:
+        for m in measures:
+            v = m[key]["cycle"] if key == "cycles_to_steady" else m[key].value
+            cycles.append(m["cycles"])
+            if math.isfinite(v):
+                xs.append(value)
+                ys.append(v)
+    fewest = min(cycles) if cycles else 0
+    if fewest < p["min_cycles"]:
+        return [trends._skip(a.case, d, check, f"runs of {fewest} cycle(s): the steady state needs "
+                             f">= {p['min_cycles']:g} (the second half of the cycles is the steady band)",
+                             a.tier)]
+    if len(set(xs)) < 2 or len(xs) < 3:
+        return [trends._skip(a.case, d, check, f"{len(xs)} runs at {len(set(xs))} {a.x_label} value(s) "
+                             "with a finite value; a slope with a standard error needs >= 3 runs at "
+                             ">= 2 values", a.tier)]
+    fit, why = fits.try_fit(pd.Series(xs), pd.Series(ys), 1)
+    if fit is None or not math.isfinite(fit.slope_se):
+        return [trends._skip(a.case, d, check, f"no linear fit: {why}", a.tier)]
+    slope, se, k = fit.slope, fit.slope_se, p["k"]
+    if np.ptp(ys) <= 1e-12 * abs(float(np.mean(ys))):  # all runs alike: the fit's slope is round-off
+        slope, se = 0.0, 0.0
+    reason = d.reason_for(a.tier)
+    if direction == "flat":
+        status = "passed" if abs(slope) <= k * se else "failed"
+        unseen = k * se * (max(xs) - min(xs))
+        mean = float(np.mean(ys))
+        if status == "passed" and not unseen <= trends.FLAT_RESOLUTION * abs(mean):
+            status = "unresolved"
+            reason = (f"not resolved: a change of {unseen:.3g} across the range would go unseen "
+                      f"(flat needs k SE x range <= {trends.FLAT_RESOLUTION:g} x mean {mean:.3g}). {reason}")
+        expected = "0"
+    else:
+        sign = -1.0 if direction == "decrease" else 1.0
+        score = sign * slope / se if se > 0 else (math.copysign(math.inf, sign * slope) if slope else math.nan)
+        status = _three_way(score, k)
+        if status == "unresolved":
+            reason = f"not resolved: the slope is within {k:g} SE of 0. {reason}"
+        expected = "< 0" if direction == "decrease" else "> 0"
+    return [trends.CheckResult(
+        case=a.case, check=check, check_id=d.id, status=status, measured=float(slope), expected=expected,
+        tolerance=f"{k:g} SE (SE {se:.4g}; {len(xs)} runs at {len(set(xs))} values)", reason=reason,
+        detail={"tier": a.tier, "slope": slope, "se": se, "n": len(xs), "x": xs, "y": ys})]
+
+
+def checks(a) -> list:
+    """The Fig. 5 / Fig. 6 and steady-state checks of one trends Analysis."""
+    from . import trends  # here: trends calls this module
+    points = _per_point(a)
+    out = _direction_checks(a, points, trends)
+    out += _still_zone_checks(a, points, trends)
+    out += _toroidal_checks(a, points, trends)
+    if a.kind == "angle":
+        out += _trend_check(a, points, trends, "steady_time_theta", "cycles_to_steady", "decrease")
+    out += _trend_check(a, points, trends, "steady_volume_flat", "steady_volume", "flat")
+    if a.kind == "ratio":
+        out += _trend_check(a, points, trends, "cooling_dilation_ratio", "cooling_dilation", "increase")
+    return out

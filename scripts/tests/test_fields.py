@@ -1,0 +1,280 @@
+"""Tests of scripts/analysis/fields.py (Fig. 5, Fig. 6 and the steady state) on synthetic
+stage fields and cycles: fields with the paper's behaviour pass, and for each check a
+field against it fails.
+
+Run with Debian's interpreter: /usr/bin/python3 -m pytest -q scripts/tests/test_fields.py
+"""
+
+from __future__ import annotations
+
+import math
+import sys
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+
+SCRIPTS = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(SCRIPTS))
+
+from analysis import fields, inputs, plots, trends  # noqa: E402
+
+NR, NZ, CELL = 8, 10, 1.0
+R, H = NR * CELL, NZ * CELL
+ALPHA_P = 1e-4
+
+
+def slump(r, z, a=0.1):
+    """Heating: outward and downward, vanishing at the bottom of the axis."""
+    return a * (r / R) * (0.5 + z / H), -a * (z / H) * (0.5 + r / R)
+
+
+def vortex(r, z, c):
+    """u = (d psi/dz, -d psi/dr), psi = c sin(pi r/R) sin(pi z/H): w = -lap psi, of the sign
+    of c everywhere (c > 0: rising at the wall)."""
+    return (c * math.pi / H * np.sin(math.pi * r / R) * np.cos(math.pi * z / H),
+            -c * math.pi / R * np.cos(math.pi * r / R) * np.sin(math.pi * z / H))
+
+
+def write_stage_fields(folder: Path, cycles=6, heating=slump, circulation=0.2, noise=0.002,
+                       seed=0, uniform=False):
+    """stage_fields.csv: the heating field, and a cooling that takes back 90 % of it and
+    adds a vortex; `uniform` makes every grain sink by the same amount on heating and rise
+    on cooling (no still zone)."""
+    rng = np.random.default_rng(seed)
+    folder.mkdir(parents=True, exist_ok=True)
+    iz, ir = np.meshgrid(np.arange(NZ), np.arange(NR), indexing="ij")
+    r, z = (ir + 0.5) * CELL, (iz + 0.5) * CELL
+    rows = []
+    for k in range(cycles):
+        hr, hz = heating(r, z)
+        if uniform:
+            hr, hz = np.full_like(r, 0.05), np.full_like(r, -0.05)
+        vr, vz = vortex(r, z, circulation)
+        cr, cz = -0.9 * hr + vr, -0.9 * hz + vz
+        frame = pd.DataFrame({"cycle": k, "ir": ir.ravel(), "iz": iz.ravel(), "r": r.ravel(),
+                              "z": z.ravel(), "count": 5})
+        for name, v in (("ur_heating", hr), ("uz_heating", hz), ("ur_cooling", cr), ("uz_cooling", cz)):
+            frame[name] = v.ravel() + noise * rng.normal(size=v.size)
+        rows.append(frame)
+    pd.concat(rows).to_csv(folder / fields.STAGE_FILE, index=False, float_format="%.6g")
+
+
+def write_cycles(folder: Path, cycles=10, steady_from=3, p=10.0, v_end=0.97, swing=0.01, seed=0):
+    """cycles.csv: peaks rising to p by cycle steady_from and flat after it (within 1 %),
+    V/V0 at the end of cooling v_end, swing higher at the end of heating."""
+    rng = np.random.default_rng(seed)
+    folder.mkdir(parents=True, exist_ok=True)
+    k = np.arange(cycles)
+    peak = np.where(k < steady_from, p * (0.3 + 0.7 * k / max(steady_from, 1)), p)
+    peak = peak * (1 + 0.005 * rng.normal(size=cycles))
+    cooled = v_end + 0.0005 * rng.normal(size=cycles)
+    pd.DataFrame({"cycle": k, "peak_pressure": peak, "t_peak": k + 0.5,
+                  "V_over_V0_end_heating": cooled + swing, "V_over_V0_end_cooling": cooled}).to_csv(
+        folder / "cycles.csv", index=False)
+
+
+def build(folder: Path, kind: str, values, realizations=3, cycles=10, stage=None, run=None) -> Path:
+    """A sweep folder: summary.csv and runs/<run>/ with stage_fields.csv and cycles.csv.
+    stage(value, s) and run(value, s) give keyword arguments of write_stage_fields and
+    write_cycles (None: no stage fields)."""
+    rows, n = [], 0
+    for x in values:
+        for s in range(realizations):
+            row = {"run": n, "seed": 1 + s, "thermal.alpha_p": ALPHA_P, "P_max": 1.0, "status": "completed"}
+            if kind == "angle":
+                row["container.opening_angle_deg"] = x
+            else:
+                row["thermal.alpha_c"] = x * ALPHA_P
+            rows.append(row)
+            folder_run = folder / "runs" / str(n)
+            kwargs = {} if stage is None else stage(x, s)
+            if kwargs is not None:
+                write_stage_fields(folder_run, seed=n, **kwargs)
+            write_cycles(folder_run, cycles=cycles, seed=n, **({} if run is None else run(x, s)))
+            n += 1
+    folder.mkdir(parents=True, exist_ok=True)
+    pd.DataFrame(rows).to_csv(folder / "summary.csv", index=False)
+    return folder
+
+
+def results(folder: Path, kind: str, tier="paper") -> dict[str, list]:
+    a = trends.analyse(inputs.load_sweep(folder), kind, tier)
+    out: dict[str, list] = {}
+    for r in a.results:
+        if r.check_id in fields.CHECK_IDS:
+            out.setdefault(r.check_id, []).append(r)
+    return out
+
+
+def statuses(found, check_id):
+    return [r.status for r in found.get(check_id, [])]
+
+
+# --------------------------------------------------------------------------- reading
+
+
+def test_stage_fields_are_read_on_their_grid(tmp_path):
+    write_stage_fields(tmp_path, cycles=3, noise=0.0)
+    f = fields.read_stage_fields(tmp_path)
+    assert f.cell == pytest.approx(CELL)
+    assert list(f.cycles) == [0, 1, 2] and f.count.shape == (3, NZ, NR)
+    ur, uz = slump(f.r[3], f.z[7])
+    assert f.ur_heating[1, 7, 3] == pytest.approx(ur, rel=1e-5)
+    assert f.uz_heating[1, 7, 3] == pytest.approx(uz, rel=1e-5)
+    assert fields.read_stage_fields(tmp_path / "none") is None
+
+
+def test_a_file_against_the_format_is_an_error_naming_file_and_column(tmp_path):
+    write_stage_fields(tmp_path, cycles=2)
+    frame = pd.read_csv(tmp_path / fields.STAGE_FILE)
+    frame.drop(columns=["uz_cooling"]).to_csv(tmp_path / fields.STAGE_FILE, index=False)
+    with pytest.raises(fields.FieldsError, match=r"stage_fields\.csv: missing column\(s\) uz_cooling"):
+        fields.read_stage_fields(tmp_path)
+    frame["count"] = -1
+    frame.to_csv(tmp_path / fields.STAGE_FILE, index=False)
+    with pytest.raises(fields.FieldsError, match=r"stage_fields\.csv: column 'count': expected integers"):
+        fields.read_stage_fields(tmp_path)
+
+
+def test_the_cumulative_field_circulates_with_the_vortex_sign(tmp_path):
+    for c, sense in ((0.3, "rising at the wall"), (-0.3, "sinking at the wall")):
+        write_stage_fields(tmp_path, circulation=c, noise=0.0)
+        circ = fields.circulation(fields.read_stage_fields(tmp_path))
+        assert circ.sense == sense
+        assert abs(circ.coherence) > 0.8
+        assert circ.cells == (NR - 2) * (NZ - 2)
+
+
+def test_vorticity_follows_the_engine_rule():
+    # A rigid rotation u = Omega (-(z - z0), r - r0) has w = 2 Omega on interior cells only.
+    z, r = np.meshgrid((np.arange(5) + 0.5), (np.arange(4) + 0.5), indexing="ij")
+    ur, uz = -0.01 * (z - 2.0), 0.01 * (r - 2.0)
+    ur[2, 2] = np.nan  # an empty cell: itself and its neighbours are not interior
+    w = fields.vorticity(ur, uz, 1.0)
+    assert np.isnan(w[0]).all() and np.isnan(w[:, 0]).all() and np.isnan(w[2, 2])
+    assert np.isnan(w[1, 2]) and np.isnan(w[3, 2])
+    assert w[1, 1] == pytest.approx(0.02)
+
+
+def test_cycles_to_steady_is_the_first_cycle_in_the_band():
+    peaks = [1.0, 4.0, 8.0, 9.9, 10.0, 10.1, 9.95, 10.05, 10.0, 9.9]
+    got = fields.cycles_to_steady(pd.DataFrame({"cycle": range(10), "peak_pressure": peaks}))
+    # Steady half: cycles 5-9, mean 10.0, sigma 0.079 -> band max(0.16, 0.5) = 0.5.
+    assert got["mean"] == pytest.approx(10.0) and got["band"] == pytest.approx(0.5)
+    assert got["cycle"] == 3
+    assert math.isnan(fields.cycles_to_steady(pd.DataFrame({"cycle": [0], "peak_pressure": [1.0]}))["cycle"])
+
+
+def test_steady_volume_and_cooling_dilation_carry_their_cycle_scatter(tmp_path):
+    write_cycles(tmp_path, cycles=10, v_end=0.95, swing=0.02)
+    cycles = inputs.read_cycles(tmp_path)
+    v = fields.steady_volume(cycles)
+    d = fields.cooling_dilation(cycles)
+    assert v.value == pytest.approx(0.95, abs=0.002) and v.n == 5 and 0 < v.se < 0.001
+    assert d.value == pytest.approx(0.02) and d.source == "cycles"
+
+
+# --------------------------------------------------------------------------- checks
+
+
+def test_the_papers_fields_pass_every_field_check(tmp_path):
+    found = results(build(tmp_path / "a", "angle", (0.0, 4.0, 8.0)), "angle")
+    for check_id in ("stage_heating_direction", "stage_cooling_direction", "still_zone", "toroidal_cell"):
+        assert statuses(found, check_id) == ["passed"] * 3, [(r.check, r.status, r.tolerance)
+                                                             for r in found[check_id]]
+    assert "rising at the wall" in found["toroidal_cell"][0].tolerance
+
+
+def test_inward_motion_on_heating_fails(tmp_path):
+    def inward(r, z):
+        ur, uz = slump(r, z)
+        return -ur, uz
+    found = results(build(tmp_path / "a", "angle", (0.0, 4.0), stage=lambda x, s: {"heating": inward}),
+                    "angle")
+    assert statuses(found, "stage_heating_direction") == ["failed"] * 2
+    # The cooling takes back 90 % of it: outward on cooling, against the paper too.
+    assert statuses(found, "stage_cooling_direction") == ["failed"] * 2
+
+
+def test_a_direction_within_the_noise_is_not_resolved(tmp_path):
+    def faint(r, z):
+        return slump(r, z, a=1e-4)
+    found = results(build(tmp_path / "a", "angle", (0.0,), realizations=1,
+                          stage=lambda x, s: {"heating": faint, "noise": 0.01}), "angle")
+    assert statuses(found, "stage_heating_direction") == ["unresolved"]
+
+
+def test_a_bed_moving_as_a_whole_has_no_still_zone_and_fails(tmp_path):
+    found = results(build(tmp_path / "a", "angle", (0.0, 4.0), stage=lambda x, s: {"uniform": True, "circulation": 0.0}),
+                    "angle")
+    assert statuses(found, "still_zone") == ["failed"] * 2
+    assert found["still_zone"][0].measured == pytest.approx(1.0, abs=0.1)
+
+
+def test_opposite_circulation_in_one_realization_fails(tmp_path):
+    def stage(x, s):
+        return {"circulation": -0.2 if (x == 4.0 and s == 1) else 0.2}
+    found = results(build(tmp_path / "a", "angle", (0.0, 4.0), stage=stage), "angle")
+    assert statuses(found, "toroidal_cell") == ["passed", "failed"]
+    assert "mixed" in found["toroidal_cell"][1].tolerance
+
+
+def test_no_dominant_cell_fails_at_the_paper_tier_only(tmp_path):
+    folder = build(tmp_path / "a", "angle", (0.0,), stage=lambda x, s: {"circulation": 0.0,
+                                                                       "heating": lambda r, z: (0 * r, 0 * z),
+                                                                       "noise": 0.01})
+    assert statuses(results(folder, "angle", "paper"), "toroidal_cell") == ["failed"]
+    assert statuses(results(folder, "angle", "quick"), "toroidal_cell") == ["unresolved"]
+
+
+def test_steady_state_sooner_at_larger_angles_passes_and_later_fails(tmp_path):
+    sooner = build(tmp_path / "s", "angle", (0.0, 4.0, 8.0),
+                   run=lambda x, s: {"steady_from": int(6 - 0.5 * x)})
+    later = build(tmp_path / "l", "angle", (0.0, 4.0, 8.0),
+                  run=lambda x, s: {"steady_from": int(2 + 0.5 * x)})
+    assert statuses(results(sooner, "angle"), "steady_time_theta") == ["passed"]
+    assert statuses(results(later, "angle"), "steady_time_theta") == ["failed"]
+
+
+def test_the_same_steady_density_passes_and_a_trend_fails(tmp_path):
+    same = build(tmp_path / "s", "ratio", (1.0, 5.0, 10.0))
+    trend = build(tmp_path / "t", "ratio", (1.0, 5.0, 10.0), run=lambda x, s: {"v_end": 0.99 - 0.004 * x})
+    assert statuses(results(same, "ratio"), "steady_volume_flat") == ["passed"]
+    assert statuses(results(trend, "ratio"), "steady_volume_flat") == ["failed"]
+
+
+def test_cooling_dilation_weaker_at_small_ratio_passes_and_the_reverse_fails(tmp_path):
+    rising = build(tmp_path / "r", "ratio", (1.0, 5.0, 10.0), run=lambda x, s: {"swing": 0.002 * x})
+    falling = build(tmp_path / "f", "ratio", (1.0, 5.0, 10.0), run=lambda x, s: {"swing": 0.03 - 0.002 * x})
+    found = results(rising, "ratio")
+    assert statuses(found, "cooling_dilation_ratio") == ["passed"]
+    assert "steady_time_theta" not in found  # an angle statement
+    assert statuses(results(falling, "ratio"), "cooling_dilation_ratio") == ["failed"]
+
+
+def test_without_stage_fields_or_enough_cycles_the_checks_skip(tmp_path):
+    folder = build(tmp_path / "a", "angle", (0.0, 4.0), cycles=3, stage=lambda x, s: None)
+    found = results(folder, "angle", "quick")
+    for check_id in ("stage_heating_direction", "still_zone", "toroidal_cell", "steady_time_theta",
+                     "steady_volume_flat"):
+        assert set(statuses(found, check_id)) == {"skipped"}, check_id
+    assert "outputs.displacement.stages" in found["still_zone"][0].reason
+    assert "3 cycle(s)" in found["steady_time_theta"][0].reason
+
+
+def test_a_damaged_stage_file_skips_naming_it(tmp_path):
+    folder = build(tmp_path / "a", "angle", (0.0,), realizations=1)
+    (folder / "runs" / "0" / fields.STAGE_FILE).write_text("cycle,ir\n0,1\n")
+    found = results(folder, "angle")
+    assert found["still_zone"][0].status == "skipped"
+    assert "stage_fields.csv: missing column(s)" in found["still_zone"][0].reason
+
+
+def test_the_stage_field_figure_is_drawn(tmp_path):
+    folder = build(tmp_path / "a", "angle", (0.0, 4.0), realizations=1)
+    a = trends.analyse(inputs.load_sweep(folder), "angle", "paper")
+    paths, notes = plots.stage_fields_figure(a, tmp_path / "out")
+    assert len(paths) == 1 and paths[0].is_file() and not notes
+    assert "Fig. 5 and Fig. 6" in paths[0].with_suffix(".txt").read_text()
