@@ -11,6 +11,7 @@ returns (paths, notes): a figure whose data are missing is skipped with a note.
 | volume_vs_time       | Fig. 4a (angle), 4b (ratio): V/V0(t) |
 | wrms_vs_parameter    | Fig. 7a, 7b: W_rms +- 1 std per window with fits |
 | displacement_fields  | Fig. 6 (and 5): accumulated displacement arrows, vorticity in colour |
+| stage_fields_figure  | Fig. 5 and 6: heating, cooling and cumulative fields (stage_fields.csv) |
 """
 
 from __future__ import annotations
@@ -298,8 +299,71 @@ def displacement_fields(a, out_dir: Path):
     return [path], []
 
 
+def draw_stage_fields(stage, title: str = "") -> Figure:
+    """Three panels of a run's stage fields (fields.StageFields) over the second half of
+    its cycles: the mean heating field, the mean cooling field (arrows), and their sum
+    over those cycles, the cumulative field (arrows, vorticity in colour)."""
+    from .fields import steady_cycles_of, vorticity  # fields imports trends, as this module
+    cycles = steady_cycles_of(stage.cycles)
+    pick = np.isin(stage.cycles, cycles)
+    populated = (stage.count[pick] > 0).all(axis=0)
+    r, z = np.meshgrid(stage.r, stage.z)
+    fig = Figure(figsize=(13, 5))
+    axes = fig.subplots(1, 3, sharey=True)
+    for ax, name in zip(axes[:2], ("heating", "cooling")):
+        ur = np.nanmean(getattr(stage, f"ur_{name}")[pick], axis=0)
+        uz = np.nanmean(getattr(stage, f"uz_{name}")[pick], axis=0)
+        ax.quiver(r[populated], z[populated], ur[populated], uz[populated], angles="xy",
+                  pivot="mid", color="black", width=0.004)
+        ax.set_title(f"{name}, mean of cycles {cycles[0]}-{cycles[-1]}")
+    ur, uz, both = stage.cumulative(cycles)
+    w = vorticity(ur, uz, stage.cell)
+    limit = float(np.nanmax(np.abs(w))) if np.isfinite(w).any() else 0.0
+    if limit > 0:
+        mesh = axes[2].pcolormesh(stage.r, stage.z, np.ma.masked_invalid(w), shading="nearest",
+                                  cmap="RdBu_r", vmin=-limit, vmax=limit)
+        fig.colorbar(mesh, ax=axes[2], label="vorticity w = du_z/dr - du_r/dz")
+    axes[2].quiver(r[both], z[both], ur[both], uz[both], angles="xy", pivot="mid", color="black",
+                   width=0.004)
+    axes[2].set_title(f"cumulative, cycles {cycles[0]}-{cycles[-1]}")
+    for ax in axes:
+        ax.set_xlabel("r")
+        ax.set_aspect("equal", adjustable="box")
+        ax.set_xlim(0, stage.r[-1] + 0.5 * stage.cell)
+        ax.set_ylim(0, stage.z[-1] + 0.5 * stage.cell)
+    axes[0].set_ylabel("z")
+    if title:
+        fig.suptitle(title)
+    return fig
+
+
+def stage_fields_figure(a, out_dir: Path):
+    """Heating, cooling and cumulative fields of the reference run (as
+    displacement_fields): theta_c nearest 0 or alpha_c/alpha_p nearest 10, first
+    realization."""
+    from .fields import FieldsError, read_stage_fields
+    runs = _first_runs(a)
+    if not runs:
+        return [], []
+    reference = PAPER_ANGLE if a.kind == "angle" else PAPER_RATIO
+    value, run, folder = min(runs, key=lambda item: abs(item[0] - reference))
+    try:
+        stage = read_stage_fields(folder)
+    except FieldsError as problem:
+        return [], [f"{a.case}: stage-field figure: {problem}"]
+    if stage is None:  # the scene did not ask for it: the field checks say so (skipped)
+        return [], []
+    fig = draw_stage_fields(stage, f"run {run}, {a.point_label(value)}")
+    path = _save(fig, a, out_dir, "stage_fields",
+                 f"Displacement over the heating and over the cooling (means over the second half "
+                 f"of the cycles) and their sum over those cycles, the cumulative field, averaged "
+                 f"over the polar angle on the (r, z) cells, vorticity in colour; run {run} at "
+                 f"{a.point_label(value)} (mirrors the paper's Fig. 5 and Fig. 6).")
+    return [path], []
+
+
 ALL = (pressure_vs_time, metric_vs_parameter, volume_vs_time, wrms_vs_parameter,
-       displacement_fields)
+       displacement_fields, stage_fields_figure)
 
 
 def make_all(a, out_dir: Path):
