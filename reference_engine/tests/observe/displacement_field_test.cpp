@@ -47,6 +47,30 @@ TEST(CylindricalMapping, RadialMoveOfAParticleAtOneOne) {
     }
 }
 
+TEST(CylindricalMapping, IntervalsBinnedAtOneReferenceAddUpToTheWhole) {
+  // Heating a -> b, cooling b -> c, both binned where the particles were at a (the stage
+  // fields of run/stage_fields.hpp): cell by cell they add up to the field a -> c, even
+  // for a particle that crossed into another cell at b and for radial components taken
+  // at a (not at b).
+  const std::vector<Vec3> a = {{0.9, 0.0, 0.2}, {0.0, 1.6, 0.7}, {-1.2, -0.3, 1.4}};
+  const std::vector<Vec3> b = {{1.3, 0.2, 0.1}, {0.1, 1.5, 0.9}, {-1.1, -0.2, 1.3}};
+  const std::vector<Vec3> c = {{1.0, 0.1, 0.25}, {-0.2, 1.7, 0.6}, {-1.3, -0.4, 1.5}};
+  const DisplacementField heat = displacement_field(a, a, b, 1.0, 3, 3);
+  const DisplacementField cool = displacement_field(a, b, c, 1.0, 3, 3);
+  const DisplacementField whole = displacement_field(a, c, 1.0, 3, 3);
+  for (std::size_t k = 0; k < whole.count.size(); ++k) {
+    EXPECT_EQ(heat.count[k], whole.count[k]) << k;
+    EXPECT_EQ(cool.count[k], whole.count[k]) << k;
+    if (whole.count[k] == 0) continue;
+    // 1e-15: two sums of O(1) differences.
+    EXPECT_NEAR(heat.ur[k] + cool.ur[k], whole.ur[k], 1e-15) << k;
+    EXPECT_NEAR(heat.uz[k] + cool.uz[k], whole.uz[k], 1e-15) << k;
+  }
+  // The particle at (0.9, 0, 0.2) is in cell (0, 0) at a, in (1, 0) at b: binned at a.
+  EXPECT_EQ(cool.count[static_cast<std::size_t>(cool.index(0, 0))], 1);
+  EXPECT_THROW(displacement_field({a[0]}, a, c, 1.0, 3, 3), std::invalid_argument);
+}
+
 TEST(CylindricalMapping, TangentialMoveHasNoRadialPartAndCellsAverage) {
   // Two particles in one cell on opposite sides of the axis, each moved along its own
   // -e_r by 0.2 and 0.4: u_r averages to -0.3. A third, moved tangentially, in another cell.

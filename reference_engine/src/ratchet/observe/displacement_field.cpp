@@ -23,11 +23,17 @@ void check_grid(const char* where, double cell, int nr, int nz) {
 
 DisplacementField displacement_field(const std::vector<Vec3>& positions_a, const std::vector<Vec3>& positions_b,
                                      double cell, int nr, int nz) {
+  return displacement_field(positions_a, positions_a, positions_b, cell, nr, nz);
+}
+
+DisplacementField displacement_field(const std::vector<Vec3>& reference, const std::vector<Vec3>& positions_a,
+                                     const std::vector<Vec3>& positions_b, double cell, int nr, int nz) {
   constexpr const char* where = "displacement_field";
   check_grid(where, cell, nr, nz);
-  if (positions_a.size() != positions_b.size())
-    throw std::invalid_argument(std::string(where) + ": snapshots have " + std::to_string(positions_a.size()) + " and " +
-                                std::to_string(positions_b.size()) + " particles");
+  if (positions_a.size() != positions_b.size() || reference.size() != positions_a.size())
+    throw std::invalid_argument(std::string(where) + ": snapshots have " + std::to_string(reference.size()) + ", " +
+                                std::to_string(positions_a.size()) + " and " + std::to_string(positions_b.size()) +
+                                " particles");
   DisplacementField f;
   f.cell = cell;
   f.nr = nr;
@@ -37,10 +43,10 @@ DisplacementField displacement_field(const std::vector<Vec3>& positions_a, const
   f.uz.assign(cells, 0.0);
   f.count.assign(cells, 0);
   for (std::size_t i = 0; i < positions_a.size(); ++i) {
-    const Vec3& a = positions_a[i];
-    if (!a.allFinite() || !positions_b[i].allFinite())
+    const Vec3& a = reference[i];
+    if (!a.allFinite() || !positions_a[i].allFinite() || !positions_b[i].allFinite())
       throw std::invalid_argument(std::string(where) + ": particle " + std::to_string(i) + " has a non-finite position");
-    const Vec3 d = positions_b[i] - a;
+    const Vec3 d = positions_b[i] - positions_a[i];
     const double r = std::hypot(a.x(), a.y());
     const double u_r = r < kOnAxis ? 0.0 : (d.x() * a.x() + d.y() * a.y()) / r;
     const double qr = std::floor(r / cell), qz = std::floor(a.z() / cell);

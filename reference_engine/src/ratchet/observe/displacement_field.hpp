@@ -33,6 +33,13 @@ struct DisplacementField {
 DisplacementField displacement_field(const std::vector<Vec3>& positions_a, const std::vector<Vec3>& positions_b,
                                      double cell, int nr, int nz);
 
+// The same with the cell and e_r taken at a third snapshot `reference` (same ids):
+// the displacement positions_b - positions_a of each particle, binned where it was at
+// `reference`. Fields of consecutive intervals binned at one reference add up cell by
+// cell to the field of the whole (run/stage_fields.hpp: heating + cooling).
+DisplacementField displacement_field(const std::vector<Vec3>& reference, const std::vector<Vec3>& positions_a,
+                                     const std::vector<Vec3>& positions_b, double cell, int nr, int nz);
+
 // A field from per-cell values given directly (row-major [iz * nr + ir]), e.g. an
 // analytic field sampled at cell centres ((ir + 1/2) cell, (iz + 1/2) cell) for tests.
 // Throws std::invalid_argument if an array's size is not nr * nz, cell <= 0, nr or
