@@ -29,9 +29,9 @@ using test::fresh_dir;
 using test::read_text;
 
 // A small bed through every stage and observable: pour, settle section, settled wall
-// profile, two cycles with V/V0, peaks, segment forces, displacement windows, wall
-// profile and VTK (every 400 steps and at stage ends); compliant Anderson sweeps as the
-// standard tier. 40 bodies, 2100 steps or so, about a second.
+// profile, two cycles with V/V0, peaks, segment forces, displacement windows and stage
+// fields, wall profile and VTK (every 400 steps and at stage ends); compliant Anderson
+// sweeps as the standard tier. 40 bodies, 2100 steps or so, about a second.
 json bed() {
   return json::parse(R"({
     "name": "resumable", "seed": 5, "time": {"dt": 0.004},
@@ -43,7 +43,8 @@ json bed() {
                 "alpha_p": 1e-4, "alpha_c": 1e-3},
     "outputs": {"timeseries_every": 7, "bodies_every": 300, "volume": true, "segment_forces": true,
                 "steady_cycles": [1, 1], "pressure_window": 0.2,
-                "displacement": {"cell": 1.0, "windows": [[0, 1], [0, 2]]}, "wall_profile_bins": 3,
+                "displacement": {"cell": 1.0, "windows": [[0, 1], [0, 2]], "stages": true},
+                "wall_profile_bins": 3,
                 "settled_profile_time": 0.5, "vtk_cycles": [1], "vtk_every": 400, "checkpoint_every": 250}
   })");
 }
@@ -136,6 +137,11 @@ TEST_F(Resume, TheReferenceRunCoversSettleAndCyclesAndLeavesNoCheckpoint) {
   EXPECT_EQ(run.at("summary").at("cycles_completed"), 2);
   EXPECT_FALSE(fs::exists(reference_ / kCheckpointFileName));  // removed at the end
   EXPECT_TRUE(fs::exists(reference_ / "displacement_0_2.csv"));
+  // Stage fields of both cycles: the stops below fall in cycle 0's heating and cycle 1's
+  // cooling, so the resumed runs carry kept positions and rows through the checkpoint.
+  const auto stages = test::lines_of(reference_ / "stage_fields.csv");
+  ASSERT_GT(stages.size(), 2u);
+  EXPECT_EQ(stages.back().substr(0, 2), "1,");
   EXPECT_TRUE(fs::exists(reference_ / "wall_profile.csv"));
 }
 

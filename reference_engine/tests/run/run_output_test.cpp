@@ -82,7 +82,8 @@ TEST(RunOutput, ClearsAnEarlierRunsOutputsAndNothingElse) {
   fs::remove_all(d);
   fs::create_directories(d / "vtk");
   const std::vector<std::string> stale = {"run.json", "cycles.csv", "wall_profile.csv", "displacement_0_10.csv",
-                                          "timeseries.csv.partial", "vtk/particles_cycle1_end_heating.vtk",
+                                          "stage_fields.csv", "timeseries.csv.partial",
+                                          "vtk/particles_cycle1_end_heating.vtk",
                                           "vtk/contacts_cycle1_end_cooling.vtp", "vtk/particles.pvd"};
   const std::vector<std::string> kept = {"notes.txt", "packing.state", "cycles.csv.bak", "vtk/mine.vtk",
                                          "displacement_.csv"};

@@ -194,6 +194,18 @@ TEST(Scene, VtkOutputsAreChecked) {
   std::filesystem::remove_all(dir);
 }
 
+// outputs.displacement.stages: off unless asked (scenes that do not ask pay nothing).
+TEST(Scene, DisplacementStagesIsABooleanOffByDefault) {
+  json j = minimal_scene();
+  j["outputs"] = {{"displacement", {{"cell", 1.0}, {"windows", {{0, 1}}}}}};
+  EXPECT_FALSE(build_scene(j, "scene.json").outputs.displacement_stages);
+  j["outputs"]["displacement"]["stages"] = true;
+  EXPECT_TRUE(build_scene(j, "scene.json").outputs.displacement_stages);
+  j["outputs"]["displacement"]["stages"] = "yes";
+  EXPECT_THAT(error_of(j), AllOf(HasSubstr("scene.json: field 'outputs.displacement.stages'"),
+                                 HasSubstr("true or false")));
+}
+
 TEST(Scene, SettleSectionIsCheckedStrictly) {
   json j = minimal_scene();
   j["thermal"] = {{"start_time", 0.5}, {"heat_time", 1.0}, {"cycles", 2}};

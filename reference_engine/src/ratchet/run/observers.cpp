@@ -18,6 +18,7 @@ RunObservers::RunObservers(const World& world, std::string out_dir)
       peaks_(world.scene()),
       profile_(world.scene()),
       displacement_(world, clock_),
+      stages_(world, clock_),
       vtk_(world, out_dir_) {
   add_columns();
 }
@@ -38,6 +39,7 @@ RunObservers::RunObservers(const World& world, std::string out_dir, const nlohma
       peaks_(world.scene()),
       profile_(world.scene()),
       displacement_(world, clock_),
+      stages_(world, clock_),
       vtk_(world, out_dir_, false) {
   add_columns();
   clock_.restore(saved.at("clock"));
@@ -46,13 +48,15 @@ RunObservers::RunObservers(const World& world, std::string out_dir, const nlohma
   stats_.restore(saved.at("cycle_stats"));
   profile_.restore(saved.at("wall_profile"));
   displacement_.restore(saved.at("displacement"));
+  stages_.restore(saved.at("stage_fields"));
   vtk_.restore(saved.at("vtk"));
 }
 
 nlohmann::json RunObservers::save() const {
   return {{"first_step", first_step_},   {"clock", clock_.save()},
           {"volume", volume_.save()},   {"peaks", peaks_.save()},   {"cycle_stats", stats_.save()},
-          {"wall_profile", profile_.save()}, {"displacement", displacement_.save()}, {"vtk", vtk_.save()}};
+          {"wall_profile", profile_.save()}, {"displacement", displacement_.save()}, {"stage_fields", stages_.save()},
+          {"vtk", vtk_.save()}};
 }
 
 void RunObservers::extra_values(const World& world, std::vector<double>& values) const {
@@ -69,6 +73,7 @@ void RunObservers::after_step(const World& world) {
   volume_.after_step(world, tick);
   profile_.after_step(world, tick);
   displacement_.after_step(world, tick);
+  stages_.after_step(world, tick);
   peaks_.after_step(world, tick);
   stats_.after_step(world, tick);
   vtk_.after_step(world, tick);
@@ -104,6 +109,7 @@ nlohmann::json RunObservers::finish(const World& world) {
   if (scene_.outputs.cycles) write_cycles(out_dir_ + "/cycles.csv");
   if (scene_.outputs.wall_profile_bins > 0) profile_.write(out_dir_);
   displacement_.finish(out_dir_, summary);
+  stages_.write(out_dir_);
   return summary;
 }
 

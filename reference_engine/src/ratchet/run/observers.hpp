@@ -1,8 +1,8 @@
 // The observables a scene asks for (docs/output-format.md), gathered during a run: a
 // cycle clock (run/cycle_clock.hpp) says where the run is in its thermal protocol, and
 // one accumulator per observable acts on its ticks (V/V0, pressure peaks, solver stats
-// per cycle, wall profile, displacement windows, VTK); the measurements themselves are
-// the pure functions of observe/. Nothing is computed that outputs does not ask for.
+// per cycle, wall profile, displacement windows and stage fields, VTK); the
+// measurements themselves are the pure functions of observe/. Nothing is computed that outputs does not ask for.
 #pragma once
 
 #include <cstdint>
@@ -15,6 +15,7 @@
 #include "ratchet/run/cycle_stats.hpp"
 #include "ratchet/run/displacement_windows.hpp"
 #include "ratchet/run/pressure_peaks.hpp"
+#include "ratchet/run/stage_fields.hpp"
 #include "ratchet/run/volume_ratio.hpp"
 #include "ratchet/run/vtk_snapshots.hpp"
 #include "ratchet/run/wall_profile.hpp"
@@ -37,7 +38,8 @@ class RunObservers {
   // After every step.
   void after_step(const World& world);
 
-  // End of the run: writes cycles.csv, displacement_<a>_<b>.csv, wall_profile.csv and
+  // End of the run: writes cycles.csv, displacement_<a>_<b>.csv, stage_fields.csv,
+  // wall_profile.csv and
   // returns the summary (P_max, V/V0, W_rms per window) for run.json.
   nlohmann::json finish(const World& world);
 
@@ -58,6 +60,7 @@ class RunObservers {
   CycleStats stats_;
   WallProfile profile_;
   DisplacementWindows displacement_;
+  StageFields stages_;
   VtkSnapshots vtk_;
 };
 

@@ -32,7 +32,7 @@ std::string without_partial(const std::string& name) {
 bool is_run_output(const std::string& name) {
   const std::string base = without_partial(name);
   if (base == "timeseries.csv" || base == "bodies.csv" || base == "cycles.csv" || base == "wall_profile.csv" ||
-      base == "bodies_shapes.json" || base == "checkpoint.state")
+      base == "bodies_shapes.json" || base == "checkpoint.state" || base == "stage_fields.csv")
     return true;
   return base.rfind("displacement_", 0) == 0 && base.size() > 17 && ends_with(base, ".csv");
 }

@@ -497,8 +497,9 @@ void read_outputs(const Reader& r, const json& j, SceneDef& s) {
   if (j.contains("displacement")) {
     const std::string f = p + ".displacement";
     const json& d = j.at("displacement");
-    r.object(d, f, {"cell", "windows"});
+    r.object(d, f, {"cell", "windows", "stages"});
     o.displacement_cell = r.positive(d, f, "cell", 1.0);
+    o.displacement_stages = r.boolean(d, f, "stages", false);
     o.displacement_windows = read_windows(r, r.required(d, f, "windows", "a list of cycle windows"), f + ".windows");
   }
   if (j.contains("vtk_cycles")) {

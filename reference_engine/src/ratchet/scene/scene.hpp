@@ -117,6 +117,7 @@ struct OutputSettings {
   int steady_first = -1, steady_last = -1;  // cycles averaged into P_max; -1: second half
   double displacement_cell = 0.0;           // > 0: displacement and vorticity fields
   std::vector<std::pair<int, int>> displacement_windows;  // cycle windows [a, b]
+  bool displacement_stages = false;  // stage_fields.csv: fields over each heating and each cooling
   int wall_profile_bins = 0;  // > 0: wall_profile.csv, averaged over the cold hold of every cycle
   double settled_profile_time = 0.0;  // > 0: also the settled bed's profile, over this time before cycling
   double pressure_window = 0.5;  // time units: block average of P(t) for the per-cycle peaks
