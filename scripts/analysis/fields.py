@@ -42,6 +42,9 @@ STAGE_COLUMNS = ("cycle", "ir", "iz", "r", "z", "count", "ur_heating", "uz_heati
 #: floor (a cone of still grains fits in it; at least the cell on the axis at the floor).
 STILL_R_FRACTION = 1.0 / 3.0
 STILL_Z_FRACTION = 1.0 / 4.0
+#: Interior cells a run's core needs before its circulation counts: with one or two the
+#: coherence is +-1 whatever the field, and a ring needs a core to turn around.
+MIN_CORE_CELLS = 4
 #: The steady band of the peak pressure: mean of the steady cycles (the second half)
 #: +- max(BAND_SIGMAS sigma, BAND_FLOOR mean), sigma their sample standard deviation:
 #: 2 sigma holds about 95 % of the steady peaks if they scatter normally; the floor
@@ -443,10 +446,13 @@ def _toroidal_checks(a, points, trends) -> list:
     for value, runs, measures in points:
         check = d.check.format(point=a.point_label(value))
         cells = [(r, m["circulation"]) for r, m in zip(runs, measures)
-                 if "circulation" in m and math.isfinite(m["circulation"].coherence)]
+                 if "circulation" in m and math.isfinite(m["circulation"].coherence)
+                 and m["circulation"].cells >= MIN_CORE_CELLS]
         if not cells:
-            out.append(trends._skip(a.case, d, check, f"no {STAGE_FILE} with interior cells in the "
-                                    "run folders (a bed at least 3 cells wide and tall is needed)", a.tier))
+            found = [m["circulation"].cells for m in measures if "circulation" in m]
+            why = (f"interior cells per run {found}: a core needs >= {MIN_CORE_CELLS} (a bed at "
+                   "least 4 cells wide and tall)" if found else _missing(measures))
+            out.append(trends._skip(a.case, d, check, why, a.tier))
             continue
         coherence = np.array([c.coherence for _, c in cells])
         dominant = math.copysign(1.0, float(np.sum([c.gamma for _, c in cells])) or 1.0)

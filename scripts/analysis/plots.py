@@ -311,8 +311,10 @@ def draw_stage_fields(stage, title: str = "") -> Figure:
     fig = Figure(figsize=(13, 5))
     axes = fig.subplots(1, 3, sharey=True)
     for ax, name in zip(axes[:2], ("heating", "cooling")):
-        ur = np.nanmean(getattr(stage, f"ur_{name}")[pick], axis=0)
-        uz = np.nanmean(getattr(stage, f"uz_{name}")[pick], axis=0)
+        with np.errstate(invalid="ignore"):  # cells empty in every cycle stay NaN, not drawn
+            count = np.isfinite(getattr(stage, f"ur_{name}")[pick]).sum(axis=0)
+            ur = np.nansum(getattr(stage, f"ur_{name}")[pick], axis=0) / count
+            uz = np.nansum(getattr(stage, f"uz_{name}")[pick], axis=0) / count
         ax.quiver(r[populated], z[populated], ur[populated], uz[populated], angles="xy",
                   pivot="mid", color="black", width=0.004)
         ax.set_title(f"{name}, mean of cycles {cycles[0]}-{cycles[-1]}")

@@ -264,6 +264,18 @@ def test_without_stage_fields_or_enough_cycles_the_checks_skip(tmp_path):
     assert "3 cycle(s)" in found["steady_time_theta"][0].reason
 
 
+def test_a_bed_too_shallow_for_a_core_skips_the_cell_check(tmp_path):
+    folder = build(tmp_path / "a", "angle", (0.0,), realizations=1)
+    frame = pd.read_csv(folder / "runs" / "0" / fields.STAGE_FILE)
+    frame[frame["iz"] < 3].to_csv(folder / "runs" / "0" / fields.STAGE_FILE, index=False)
+    found = results(folder, "angle")  # 3 rows: one row of interior cells, 6 cells
+    assert statuses(found, "toroidal_cell") == ["passed"]
+    frame[(frame["iz"] < 3) & (frame["ir"] < 3)].to_csv(folder / "runs" / "0" / fields.STAGE_FILE, index=False)
+    found = results(folder, "angle")  # 3 x 3 cells: one interior cell
+    assert statuses(found, "toroidal_cell") == ["skipped"]
+    assert "interior cells per run [1]" in found["toroidal_cell"][0].reason
+
+
 def test_a_damaged_stage_file_skips_naming_it(tmp_path):
     folder = build(tmp_path / "a", "angle", (0.0,), realizations=1)
     (folder / "runs" / "0" / fields.STAGE_FILE).write_text("cycle,ir\n0,1\n")
