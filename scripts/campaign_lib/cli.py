@@ -33,7 +33,10 @@ exit status: 0 nothing failed (whether or not the plan is finished); 1 a run fai
 
 
 def say(message: str) -> None:
-    print(f"campaign: {message}", flush=True)
+    try:
+        print(f"campaign: {message}", flush=True)
+    except (BrokenPipeError, OSError):
+        pass   # a closed output must not leave the engines running unattended
 
 
 class UsageError(Exception):
@@ -126,8 +129,20 @@ def check_scenes(plan, states, engine) -> None:
         done = subprocess.run(command, capture_output=True, text=True)
         if done.returncode != 0:
             message = done.stderr.strip().splitlines()[-1] if done.stderr.strip() else f"exit {done.returncode}"
-            raise PlanError(f"{plan.path}: point '{s.run.point.name}' (field 'points'): the engine refuses its "
-                            f"scene: {message}")
+            raise PlanError(f"{plan.path}: field '{blamed_field(plan, s.run.point, message)}' (point "
+                            f"'{s.run.point.name}'): the engine refuses its scene: {message}")
+
+
+def blamed_field(plan, point, message: str) -> str:
+    """The plan field behind an engine error about a --set (else the base scene's)."""
+    index = list(plan.points).index(point.name)
+    for key in sorted(point.set, key=len, reverse=True):
+        if f"--set {key}=" in message:
+            return f"points[{index}].set.{key}"
+    for key in sorted(plan.set, key=len, reverse=True):
+        if f"--set {key}=" in message:
+            return f"set.{key}"
+    return "scene"
 
 
 def print_status(plan, states, estimate, engine, golden_now, work, results) -> None:
@@ -159,7 +174,7 @@ def print_status(plan, states, estimate, engine, golden_now, work, results) -> N
     stale = sum(1 for s in states if s.stale)
     going = sum(1 for s in states if not s.done and s.started)
     say(f"{done} of {len(states)} runs stored and current, {stale} stale, {going} in progress, "
-        f"{len(left)} to run: about {seconds / 3600:.1f} CPU h left (a run: {state.hours(estimate.seconds)}, "
+        f"{len(left)} to run: about {state.hours(seconds)} of CPU left (a run: {state.hours(estimate.seconds)}, "
         f"{estimate.source})")
 
 
@@ -207,7 +222,6 @@ def main(argv=None) -> int:
     if newer:
         say(f"warning: {len(newer)} engine source file(s) are newer than {shown(engine.binary)} (e.g. "
             f"{shown(newer[0])}): rebuild unless the build is current")
-    work.mkdir(parents=True, exist_ok=True)
     golden_now = golden.cached(work, engine)
     states = state.survey(plan, work, results, engine, golden_now)
     estimate = state.estimate(plan, states, engine, args.run_hours)
@@ -232,6 +246,7 @@ def main(argv=None) -> int:
     except PlanError as error:
         print(f"campaign: error: {error}", file=sys.stderr, flush=True)
         return 2
+    work.mkdir(parents=True, exist_ok=True)
     if args.golden_check == "run" and golden_now is None:
         golden_now = golden.run_check(work, engine, say)
         states = state.survey(plan, work, results, engine, golden_now)
@@ -252,7 +267,7 @@ def main(argv=None) -> int:
     seconds = sum(estimate.seconds * (1.0 - s.progress.fraction) for s in left)
     say(f"session over after {state.hours(time.monotonic() - started)}: {len(outcome.stored)} stored, "
         f"{len(outcome.stopped)} stopped at a checkpoint, {len(outcome.failed)} failed; "
-        f"{len(states) - len(left)} of {len(states)} runs done, about {seconds / 3600:.1f} CPU h left"
+        f"{len(states) - len(left)} of {len(states)} runs done, about {state.hours(seconds)} of CPU left"
         + ("; run the same command again to go on" if left else ""))
     if outcome.signal is not None:
         return 128 + outcome.signal

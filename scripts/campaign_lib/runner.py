@@ -113,6 +113,8 @@ class Runner:
                     last_report = time.monotonic()
                 time.sleep(POLL_SECONDS)
         finally:
+            if active:   # an exception: the engines still get their SIGTERM and checkpoint
+                self._stop_all(active, outcome)
             for sig, handler in old.items():
                 signal.signal(sig, handler)
         outcome.signal = self.signal
@@ -199,7 +201,9 @@ class Runner:
             self.say(f"done {label} in {hours(wall)} (this session), {hours(total_cpu)} CPU in all; "
                      f"stored in {shown(where)}")
             outcome.stored.append(label)
-        elif item.stopping and code in (128 + signal.SIGTERM, 128 + signal.SIGINT, -signal.SIGTERM, -signal.SIGKILL):
+        elif item.stopping and progress.stage != "failed":
+            # Judged by the folder, not the exit status: mpirun reports a rank stopped by
+            # SIGTERM as 1.
             self.say(f"stopped {label}: {progress.text()}; the next invocation resumes it")
             outcome.stopped.append(label)
         else:
