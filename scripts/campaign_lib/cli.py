@@ -186,16 +186,21 @@ def print_dry_run(states, estimate, budget, jobs) -> None:
     say(f"dry run: {len(queue)} run(s) to do, in this order (a run: {state.hours(estimate.seconds)}, "
         f"{estimate.source})")
     slots = [0.0] * jobs   # when each slot is free, in seconds from now
+    fitting = 0
     for s in queue:
         need = estimate.seconds * (1.0 - s.progress.fraction)
         slot = min(range(jobs), key=lambda i: slots[i])
         fits = budget is None or slots[slot] + need <= budget
         if fits:
             slots[slot] += need
+            fitting += 1
         why = f"; rerun of a stale result ({s.verdict.reason})" if s.stale else ""
-        when = f" would start at +{state.hours(slots[slot] - need)}" if fits and budget is not None else ""
+        when = f", would start at +{state.hours(slots[slot] - need)}" if fits and budget is not None else ""
         mark = "" if fits else " [not within the budget]"
         say(f"  {s.run.label:28s} {s.progress.text()}{why}{when}{mark}")
+    if budget is not None:
+        say(f"dry run: {fitting} of {len(queue)} run(s) fit in {state.hours(budget)} with {jobs} at a time "
+            "(at the estimate; the real start of each is decided when a slot frees)")
 
 
 def main(argv=None) -> int:

@@ -19,6 +19,8 @@ from .engine import Engine, same_engine
 from .plan import Plan, Run
 
 PACKING = re.compile(r"^[0-9a-f]{16}\.state$")
+#: Suffix of the CSVs a run is still writing (docs/output-format.md).
+GROWING = "partial"
 
 
 @dataclass
@@ -159,7 +161,8 @@ class RunFolder:
             total = (meta.get("world") or {}).get("steps")
             packing = (meta.get("run") or {}).get("packing") or {}
             first = packing.get("step", 0) if isinstance(packing, dict) else 0
-        step = last_step(self.run_dir / "timeseries.csv.partial")
+        # The engine's own growing file (read only; this module writes no such file).
+        step = last_step(self.run_dir / f"timeseries.csv.{GROWING}")
         stage = "interrupted" if status == "interrupted" else ("failed" if status == "failed" else "running")
         return Progress(stage, step=step, total=total, first=first, checkpoint=checkpoint)
 
