@@ -18,10 +18,10 @@ from pathlib import Path
 from common.paths import REPO_ROOT
 
 from . import store
-from .engine import Engine
+from .engine import Engine, file_sha256
 from .plan import Plan, same_json
 from .state import RunState, hours
-from .workdir import RunFolder, collect_packings, share_packings
+from .workdir import collect_packings, share_packings
 
 POLL_SECONDS = 0.5
 
@@ -69,6 +69,7 @@ class Runner:
         self.progress_every, self.commit, self.say = progress_every, commit, say
         self.pool = work / "packings" / engine.key
         self.signal = None
+        self.binary_changed = False
 
     # ------------------------------------------------------------------ signals --
     def _on_signal(self, signum, _frame):
@@ -103,7 +104,7 @@ class Runner:
                     if started:
                         active[started.proc.pid] = started
                 if not active:
-                    if queue:
+                    if queue and not self.binary_changed:
                         self.say(f"budget: {hours(self.left())} left, less than the next run's estimate; "
                                  f"{len(queue)} run(s) left for the next invocation")
                     break
@@ -123,7 +124,7 @@ class Runner:
     def _next_fitting(self, queue: list):
         """The first run of the queue whose estimated remaining cost fits the time left;
         the ones that do not fit are dropped for this invocation."""
-        while queue:
+        while queue and not self.binary_changed:
             state = queue[0]
             state.progress = state.folder.progress()
             need = self.estimate * (1.0 - state.progress.fraction)
@@ -137,6 +138,12 @@ class Runner:
 
     def _start(self, state: RunState) -> Active | None:
         folder = state.folder
+        if file_sha256(self.engine.binary) != self.engine.binary_sha256:
+            # Rebuilt under us: the provenance would name the wrong engine.
+            self.say(f"the engine binary {self.engine.binary} changed since this invocation started; "
+                     "no new run starts (run the command again to go on with the new engine)")
+            self.binary_changed = True
+            return None
         fd = folder.lock()
         if fd is None:
             self.say(f"skip {state.run.label}: another process is running it (lock {folder.lock_file})")

@@ -10,7 +10,6 @@ scripts/analysis/inputs.py reads; --commit commits each stored run."""
 from __future__ import annotations
 
 import json
-import os
 import shutil
 import subprocess
 import sys
