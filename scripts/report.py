@@ -15,7 +15,8 @@ template is an error with exit status 2, naming it.
 
 Usage: /usr/bin/python3 scripts/report.py --checks DIR --out DIR [--tier NAME] [--build-dir DIR]
 
-Exit status: 0 all checks passed; 1 a check failed or no check was found (empty
+Exit status: 0 no check failed (passed, not resolved, or contradicted at a reduced
+scale: docs/trends.md, "States"); 1 a check failed or no check was found (empty
 or missing checks folder); 2 unreadable or malformed input, an unwritable OUT, or a
 usage error, or a missing or broken report template. When no report can be made, an
 earlier OUT/report.* is removed.
@@ -73,6 +74,9 @@ TABLE_COLUMNS = ("case", "check", "expected", "measured", "tolerance", "result")
 REPORT_NAMES = ("report.md", "report.html")
 NON_FINITE = "non-finite"
 NOT_RESOLVED = "NOT RESOLVED"
+#: The data resolve the opposite of the paper's statement at a reduced scale: counted
+#: apart, not a failure (docs/trends.md, "States").
+CONTRADICTED = "CONTRADICTED"
 
 
 class CheckFileError(Exception):
@@ -103,6 +107,11 @@ def _parse_line(line: str, where: str) -> dict:
         raise CheckFileError(f"{where}: 'passed' must be true or false, got {obj['passed']!r}")
     if not isinstance(obj.get("resolved", True), bool):
         raise CheckFileError(f"{where}: 'resolved' must be true or false, got {obj['resolved']!r}")
+    if not isinstance(obj.get("contradicted", False), bool):
+        raise CheckFileError(f"{where}: 'contradicted' must be true or false, got {obj['contradicted']!r}")
+    if obj.get("contradicted", False) and (obj["passed"] or not obj.get("resolved", True)):
+        raise CheckFileError(f"{where}: a contradicted check must have \"passed\": false and be "
+                             "resolved")
     value = math.nan if measured is None else float(measured)
     finite = math.isfinite(value)
     return {
@@ -116,6 +125,8 @@ def _parse_line(line: str, where: str) -> dict:
         "passed": bool(obj["passed"]) and finite,
         # Within tolerance, yet too uncertain to show the paper's statement.
         "resolved": bool(obj.get("resolved", True)),
+        # The opposite resolved at a reduced scale; a non-finite value stays a failure.
+        "contradicted": bool(obj.get("contradicted", False)) and finite,
         "source": where,
     }
 
@@ -124,7 +135,7 @@ def load_checks(checks_dir: str | os.PathLike) -> pd.DataFrame:
     """All checks of every *.jsonl file in checks_dir, sorted by case and check.
 
     Columns: case, check, expected, measured (float, NaN when not finite), tolerance,
-    reason, passed (bool), source ("file:line"). Raises CheckFileError on a missing
+    reason, passed (bool), resolved (bool), contradicted (bool), source ("file:line"). Raises CheckFileError on a missing
     folder or a malformed line (naming the file and line).
     """
     folder = Path(checks_dir)
@@ -140,10 +151,10 @@ def load_checks(checks_dir: str | os.PathLike) -> pd.DataFrame:
         except OSError as error:
             raise CheckFileError(f"cannot read {path}: {error.strerror}") from None
     columns = ["case", "check", "expected", "measured", "tolerance", "reason", "passed", "resolved",
-               "source"]
+               "contradicted", "source"]
     frame = pd.DataFrame(rows, columns=columns)
-    frame["passed"] = frame["passed"].astype(bool)
-    frame["resolved"] = frame["resolved"].astype(bool)
+    for flag in ("passed", "resolved", "contradicted"):
+        frame[flag] = frame[flag].astype(bool)
     frame["measured"] = frame["measured"].astype(float)
     return frame.sort_values(["case", "check"], kind="stable").reset_index(drop=True)
 
@@ -170,7 +181,7 @@ def table_rows(checks: pd.DataFrame) -> list[dict]:
             "measured": format_measured(row.measured),
             "measured_short": format_short(row.measured),
             "tolerance": row.tolerance,
-            "result": result_text(row.passed, row.resolved),
+            "result": result_text(row.passed, row.resolved, row.contradicted),
             "reason": row.reason,
             "area": area_of(row.case),
         }
@@ -197,7 +208,8 @@ def area_of(case: str) -> str:
 
 
 def area_summary(rows: Sequence[dict]) -> list[dict]:
-    """Per area (in AREAS order, then others): passed, failed, not resolved, total."""
+    """Per area (in AREAS order, then others): passed, failed, not resolved, contradicted,
+    total."""
     order = [a for a, _ in AREAS] + [OTHER_AREA]
     out = []
     for area in order:
@@ -205,21 +217,26 @@ def area_summary(rows: Sequence[dict]) -> list[dict]:
         if mine:
             out.append({"area": area, "passed": sum(r["result"] == "PASS" for r in mine),
                         "failed": sum(r["result"] == "FAIL" for r in mine),
-                        "unresolved": sum(r["result"] == NOT_RESOLVED for r in mine), "total": len(mine)})
+                        "unresolved": sum(r["result"] == NOT_RESOLVED for r in mine),
+                        "contradicted": sum(r["result"] == CONTRADICTED for r in mine), "total": len(mine)})
     return out
 
 
-def result_text(passed: bool, resolved: bool) -> str:
+def result_text(passed: bool, resolved: bool, contradicted: bool = False) -> str:
+    if contradicted:
+        return CONTRADICTED
     if not passed:
         return "FAIL"
     return "PASS" if resolved else NOT_RESOLVED
 
 
-def totals(checks: pd.DataFrame) -> tuple[int, int, int]:
-    """(passed, failed, not resolved): a not-resolved check neither passes nor fails."""
-    failed = int((~checks["passed"]).sum())
+def totals(checks: pd.DataFrame) -> tuple[int, int, int, int]:
+    """(passed, failed, not resolved, contradicted): a not-resolved check neither passes
+    nor fails; a contradicted one (at a reduced scale) does not pass and is not a failure."""
+    contradicted = int(checks["contradicted"].sum())
+    failed = int((~checks["passed"]).sum()) - contradicted
     unresolved = int((checks["passed"] & ~checks["resolved"]).sum())
-    return len(checks) - failed - unresolved, failed, unresolved
+    return len(checks) - failed - unresolved - contradicted, failed, unresolved, contradicted
 
 
 # --------------------------------------------------------------------------- metadata
@@ -337,7 +354,7 @@ def render_terminal(checks: pd.DataFrame, color: bool = False) -> str:
     def line(values: dict, paint: bool) -> str:
         cells = [values[c].ljust(widths[c]) for c in TABLE_COLUMNS]
         if paint:
-            code = {"PASS": "32", NOT_RESOLVED: "33"}.get(values["result"], "31;1")
+            code = {"PASS": "32", NOT_RESOLVED: "33", CONTRADICTED: "35;1"}.get(values["result"], "31;1")
             cells[-1] = f"\x1b[{code}m{cells[-1]}\x1b[0m"
         return " | ".join(cells).rstrip()
 
@@ -352,6 +369,13 @@ def render_terminal(checks: pd.DataFrame, color: bool = False) -> str:
             why = f" ({r['reason']})" if r["reason"] else ""
             out.append(f"  {r['case']} / {r['check']}: measured {r['measured']}, "
                        f"expected {r['expected']}, tolerance {r['tolerance']}{why}")
+    contradicted_rows = [r for r in rows if r["result"] == CONTRADICTED]
+    if contradicted_rows:
+        out.append("")
+        out.append("Contradicted at a reduced scale (the data resolve the opposite of the paper's "
+                   "statement; not a failure):")
+        for r in contradicted_rows:
+            out.append(f"  {r['case']} / {r['check']}: measured {r['measured']}; {r['reason']}")
     unresolved_rows = [r for r in rows if r["result"] == NOT_RESOLVED]
     if unresolved_rows:
         out.append("")
@@ -373,14 +397,19 @@ def _md_link(path: str) -> str:
     return urllib.parse.quote(path, safe="/._-")
 
 
-def _counts_text(passed: int, failed: int, unresolved: int) -> str:
-    return f"{passed} passed, {failed} failed" + (f", {unresolved} not resolved" if unresolved else "")
+def _counts_text(passed: int, failed: int, unresolved: int, contradicted: int = 0) -> str:
+    return (f"{passed} passed, {failed} failed" + (f", {unresolved} not resolved" if unresolved else "")
+            + (f", {contradicted} contradicted at reduced scale" if contradicted else ""))
 
 
-def _verdict(passed: int, failed: int, unresolved: int = 0) -> str:
-    total = passed + failed + unresolved
+def _verdict(passed: int, failed: int, unresolved: int = 0, contradicted: int = 0) -> str:
+    total = passed + failed + unresolved + contradicted
     if failed:
         return f"FAILED: {failed} of {total} checks failed"
+    if contradicted:
+        return (f"NO FAILURE, {contradicted} of {total} checks CONTRADICTED at a reduced scale: the "
+                f"data resolve the opposite of the paper's statement there"
+                + (f"; {unresolved} not resolved" if unresolved else ""))
     if unresolved:
         return (f"PASSED with {unresolved} of {total} checks not resolved: no check failed, but "
                 f"{unresolved} cannot show the paper's statement at this scale")
@@ -443,6 +472,7 @@ def _context(checks: pd.DataFrame, meta: dict[str, str] | None, current: dict | 
         "total": sum(counts),
         "failed": counts[1],
         "verdict": _verdict(*counts),
+        "verdict_class": "fail" if counts[1] else ("contradicted" if counts[3] else "pass"),
         "ran_sweep": bool(current),
         "no_sweep_text": NO_SWEEP_TEXT,
         "sections": headline.sections(headline_sources(current, stored)),
@@ -526,8 +556,9 @@ def _parse_args(argv: Sequence[str] | None) -> argparse.Namespace:
         prog="report.py",
         description="Prints the table of recorded validation checks and writes "
                     "OUT/report.md and OUT/report.html.",
-        epilog="Exit status: 0 all checks passed; 1 a check failed or none was found; "
-               "2 malformed input, unwritable OUT or usage error.")
+        epilog="Exit status: 0 no check failed (passed, not resolved or contradicted at a reduced "
+               "scale); 1 a check failed or none was found; 2 malformed input, unwritable OUT or "
+               "usage error.")
     parser.add_argument("--checks", required=True, metavar="DIR",
                         help="folder of *.jsonl check files (RATCHET_CHECKS_DIR of the run)")
     parser.add_argument("--out", required=True, metavar="DIR",
@@ -617,7 +648,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     sys.stdout.write(body + "\n")
     print(f"report: wrote {out_dir / 'report.md'} and {out_dir / 'report.html'}")
     print(last)
-    _, failed, _ = totals(checks)
+    _, failed, _, _ = totals(checks)
     return 1 if failed else 0
 
 

@@ -4,8 +4,9 @@ scripts/trends SWEEP_OUT_DIR [SWEEP_OUT_DIR ...] --out OUT [--checks DIR]
                [--tier quick|standard|paper] [--no-plots]
 scripts/trends --list-checks
 
-Exit status: 0 no check failed (skipped and not-resolved checks do not fail); 1 a check failed;
-2 usage error, a sweep folder that cannot be read, or an unwritable output.
+Exit status: 0 no check failed (skipped, not-resolved and checks contradicted at a reduced
+scale do not fail); 1 a check failed (a contradiction at the paper tier, or a value that is
+not a number); 2 usage error, a sweep folder that cannot be read, or an unwritable output.
 """
 
 from __future__ import annotations
@@ -35,8 +36,9 @@ def _parse(argv: Sequence[str] | None) -> argparse.Namespace:
                     "container.opening_angle_deg, ratio sweeps thermal.alpha_c), draws the "
                     "figures and writes OUT/trends.json, OUT/trends.md and one JSON line per "
                     "check for scripts/report.py.",
-        epilog="Exit status: 0 no check failed (skipped and not-resolved checks do not fail); 1 a check "
-               "failed; 2 usage error, unreadable sweep or unwritable output.")
+        epilog="Exit status: 0 no check failed (skipped, not-resolved and checks contradicted at a "
+               "reduced scale do not fail); 1 a check failed (a contradiction at the paper tier, or "
+               "a value that is not a number); 2 usage error, unreadable sweep or unwritable output.")
     parser.add_argument("sweeps", nargs="*", metavar="SWEEP_OUT_DIR",
                         help="sweep output folder holding summary.csv (and runs/<run>/)")
     parser.add_argument("--out", metavar="OUT", help="folder for trends.json, trends.md and "
@@ -51,9 +53,10 @@ def _parse(argv: Sequence[str] | None) -> argparse.Namespace:
                              "tier's description); the tier still sets the tolerances")
     parser.add_argument("--out-of-scale", metavar="ID=REASON", action="append", default=[],
                         help="a check whose paper statement does not cover these beds (e.g. the "
-                             "paper's 10-cycle vorticity windows against a 3-cycle sweep): its "
-                             "measured value and verdict stay in the record, its status becomes "
-                             "not resolved with REASON; repeatable; ids: --list-checks")
+                             "paper's 10-cycle vorticity windows against a 3-cycle sweep): a pass "
+                             "becomes not resolved, a resolved contradiction stays contradicted "
+                             "(never a failure, never a pass), with REASON; the measured value and "
+                             "the rule's status stay in the record; repeatable; ids: --list-checks")
     parser.add_argument("--no-plots", action="store_true", help="skip the figures")
     parser.add_argument("--list-checks", action="store_true",
                         help="print the check definitions (rules, tolerances, reasons) and exit")
@@ -187,6 +190,9 @@ def main(argv: Sequence[str] | None = None) -> int:
         if r.status == "failed":
             print(f"FAILED {r.case} / {r.check}: {r.reason}")
     for r in results:
+        if r.status == "contradicted":
+            print(f"CONTRADICTED {r.case} / {r.check}: {r.reason.split('. ')[0]}")
+    for r in results:
         if r.status == "unresolved":
             print(f"NOT RESOLVED {r.case} / {r.check}: {r.reason.split('. ')[0]}")
     for r in results:
@@ -194,9 +200,10 @@ def main(argv: Sequence[str] | None = None) -> int:
             print(f"SKIPPED {r.case} / {r.check}: {r.reason.removeprefix('skipped: ')}")
     for note in notes:
         print(f"note: {note}")
-    written = f"{checks_path}" if checks_path else "no check line (none passed or failed)"
+    written = f"{checks_path}" if checks_path else "no check line (every check skipped)"
     print(f"trends: wrote {out_dir / 'trends.json'}, {out_dir / 'trends.md'}, "
           f"{len(figures)} figure(s), {written}")
     print(f"trends: {total['passed']} passed, {total['failed']} failed, "
-          f"{total['unresolved']} not resolved, {total['skipped']} skipped")
+          f"{total['unresolved']} not resolved, {total['contradicted']} contradicted at reduced scale, "
+          f"{total['skipped']} skipped")
     return 1 if total["failed"] else 0

@@ -32,6 +32,7 @@ from typing import Sequence
 import numpy as np
 import pandas as pd
 from numpy.polynomial import polynomial as _poly
+from scipy import stats
 from scipy.optimize import OptimizeWarning, curve_fit
 
 
@@ -232,6 +233,11 @@ def ratio_of_means(numerator: Sequence[float], denominator: Sequence[float]) -> 
     the delta method for a ratio of two independent means (the realizations of the
     two parameter points are different runs), valid when each sem is small against
     its mean. NaN when a group has fewer than two realizations.
+
+    dof: the Welch-Satterthwaite degrees of freedom of sigma_R,
+    sigma_R^4 / (a^4 / (n_num - 1) + b^4 / (n_den - 1)) with a = sem_num / |mean_den| and
+    b = |R| sem_den / |mean_den| its two terms (as Welch's t test combines two standard
+    errors); it lies between min(n) - 1 and n_num + n_den - 2 (the latter when sigma_R = 0).
     """
     m_num, s_num, e_num, n_num = mean_sem(numerator)
     m_den, s_den, e_den, n_den = mean_sem(denominator)
@@ -244,10 +250,63 @@ def ratio_of_means(numerator: Sequence[float], denominator: Sequence[float]) -> 
         sigma = math.sqrt(e_num ** 2 + (ratio * e_den) ** 2) / abs(m_den)
     else:
         sigma = math.nan
+    dof = math.nan
+    if math.isfinite(sigma) and sigma > 0:
+        a, b = e_num / abs(m_den), abs(ratio) * e_den / abs(m_den)
+        dof = sigma ** 4 / (a ** 4 / (n_num - 1) + b ** 4 / (n_den - 1))
+    elif math.isfinite(sigma):  # no scatter at all: the interval is the point, any k will do
+        dof = float(n_num + n_den - 2)
     return {
-        "ratio": ratio, "sigma": sigma,
+        "ratio": ratio, "sigma": sigma, "dof": dof,
         "numerator": {"mean": m_num, "std": s_num, "sem": e_num, "n": n_num},
         "denominator": {"mean": m_den, "std": s_den, "sem": e_den, "n": n_den},
         "propagation": "first order (delta method), independent groups: "
                        "sigma_R = |R| sqrt((sem_a/mean_a)^2 + (sem_b/mean_b)^2)",
     }
+
+
+# --------------------------------------------------------------------------- tests
+
+
+def t_quantile(level: float, dof: float) -> float:
+    """k of a two-sided confidence interval value +- k SE at `level` (e.g. 0.95) for an
+    estimate with `dof` degrees of freedom: scipy.stats.t.ppf((1 + level) / 2, dof).
+    NaN for dof < 1 or NaN (no interval)."""
+    if not math.isfinite(dof) or dof <= 0:
+        return math.nan
+    return float(stats.t.ppf(0.5 * (1.0 + level), dof))
+
+
+def mean_interval(values: Sequence[float], level: float) -> dict:
+    """Mean of the finite values with its two-sided Student t interval at `level`:
+    mean +- k sem, k = t_quantile(level, n - 1). Interval NaN for n < 2."""
+    mean, std, sem, n = mean_sem(values)
+    k = t_quantile(level, n - 1)
+    return {"mean": mean, "std": std, "sem": sem, "n": n, "dof": n - 1, "k": k,
+            "low": mean - k * sem, "high": mean + k * sem}
+
+
+def curvature_test(x, y) -> dict:
+    """Is a quadratic resolved against a straight line? Unweighted fits of both over all
+    points (each realization one point); the F test of the nested models,
+    F = (SS_lin - SS_quad) / (SS_quad / (n - 3)) with (1, n - 3) degrees of freedom,
+    p = scipy.stats.f.sf(F, 1, n - 3) (F = (c2 / SE(c2))^2: the same as the two-sided
+    t test of the x^2 coefficient). Raises FitError without 3 distinct x and n >= 4.
+
+    Returns c2, its SE, t = c2 / SE, F, p, dof and both fits."""
+    quad = quadratic_fit(x, y)
+    line = linear_fit(x, y)
+    if quad.dof < 1:
+        raise FitError(f"{quad.n} points: the curvature needs n >= 4 for a scatter estimate")
+    c2, se = float(quad.coef[2]), float(quad.se[2])
+    if quad.ss_res > 0:
+        f_value = (line.ss_res - quad.ss_res) / (quad.ss_res / quad.dof)
+        p = float(stats.f.sf(f_value, 1, quad.dof))
+    else:  # an exact quadratic: any curvature is resolved, none is not
+        f_value = math.inf if line.ss_res > 0 else math.nan
+        p = 0.0 if line.ss_res > 0 else 1.0
+    if se > 0:
+        t = c2 / se
+    else:
+        t = math.copysign(math.inf, c2) if c2 else math.nan
+    return {"c2": c2, "se": se, "t": t, "F": float(f_value), "p": p, "dof": quad.dof, "quadratic": quad, "linear": line}

@@ -15,21 +15,26 @@ import json
 import math
 from pathlib import Path
 
-RECORD_VERSION = 1
+#: 2: the rules of issue 30 (statuses from resolved intervals, "contradicted").
+RECORD_VERSION = 2
 
 #: The headline rows: trend check id, the paper's statement, and the fit of the
 #: realization means shown beside it (metric, or None).
 ROWS = (
     ("pmax_ratio_6_0", "6 deg opening angle halves the peak wall pressure: P_max(6)/P_max(0) ~ 0.5", None),
+    ("pmax_steady", "The peaks P_max averages are in the steady state (Fig. 3a, 3c)", None),
     ("pmax_theta_slope", "P_max falls with the opening angle (Fig. 3b)", "P_max"),
     ("pmax_ratio_slope", "P_max rises with alpha_c/alpha_p (Fig. 3d)", "P_max"),
-    ("pmax_ratio_quadratic_r2", "P_max(alpha_c/alpha_p) is fitted well by a quadratic (Fig. 3d)", "P_max"),
-    ("wrms_ratio_slope", "RMS vorticity rises with alpha_c/alpha_p, roughly quadratically (Fig. 7b)", "W_rms"),
+    ("pmax_ratio_quadratic", "P_max(alpha_c/alpha_p) is fitted well by a quadratic, bending up (Fig. 3d)", "P_max"),
+    ("wrms_ratio_slope", "RMS vorticity rises with alpha_c/alpha_p (Fig. 7b)", "W_rms"),
+    ("wrms_ratio_quadratic", "RMS vorticity rises roughly quadratically with alpha_c/alpha_p (Fig. 7b)", "W_rms"),
     ("wrms_theta_flat", "RMS vorticity is independent of the opening angle (Fig. 7a)", None),
 )
+#: Checks of the angle study (the others belong to the ratio study; pmax_steady to both).
+ANGLE_IDS = ("pmax_ratio_6_0", "pmax_theta_slope", "wrms_theta_flat")
 
 STATUS_TEXT = {"passed": "PASS", "failed": "FAIL", "unresolved": "NOT RESOLVED",
-               "skipped": "SKIP", "missing": "not measured"}
+               "contradicted": "CONTRADICTED", "skipped": "SKIP", "missing": "not measured"}
 
 
 class RecordError(Exception):
@@ -61,7 +66,7 @@ def from_trends(document: dict, *, engine_commit: str, command: str, scale: str)
     by_kind = {a["kind"]: a for a in document.get("analyses", [])}
     for check_id, statement, metric in ROWS:
         checks = [c for c in document.get("checks", []) if c.get("id") == check_id]
-        kind = "angle" if check_id in ("pmax_ratio_6_0", "pmax_theta_slope", "wrms_theta_flat") else "ratio"
+        kind = "angle" if check_id in ANGLE_IDS else "ratio"
         analysis = by_kind.get(kind)
         fit = _quadratic(analysis, metric) if metric and analysis else None
         if not checks:
@@ -74,7 +79,9 @@ def from_trends(document: dict, *, engine_commit: str, command: str, scale: str)
             detail = c.get("detail") or {}
             text = c.get("tolerance", "")
             if check_id == "pmax_ratio_6_0" and math.isfinite(detail.get("sigma", math.nan) or math.nan):
+                low, high = detail.get("interval") or (math.nan, math.nan)
                 text = (f"{detail['ratio']:.3g} +- {detail['sigma']:.2g} (sigma_R), "
+                        f"{detail.get('level', 0.95):.0%} interval [{low:.3g}, {high:.3g}], "
                         f"{detail['numerator']['n']} and {detail['denominator']['n']} realizations")
             rows.append({"id": check_id, "statement": statement, "check": c["check"],
                          "status": c["status"], "measured": c.get("measured"), "detail": text,
@@ -84,6 +91,7 @@ def from_trends(document: dict, *, engine_commit: str, command: str, scale: str)
             "counts": document.get("counts", {}), "rows": rows}
 
 
+#: Optional: "reevaluated" (text: how the rows were re-derived under newer rules).
 _REQUIRED = {"version": int, "tier": str, "generated": str, "engine_commit": str,
              "command": str, "scale": str, "rows": list}
 
@@ -132,11 +140,22 @@ def _fit(row: dict) -> str:
     return f"{fit['metric']} = {c0:.3g} + {c1:.3g} x + {c2:.3g} x^2 (R^2 {fit['r2']:.3f})"
 
 
+_WHY_PREFIXES = ("not resolved at this scale: ", "contradicted at this scale (reduced): ", "failed: ")
+
+
+def _why(row: dict) -> str:
+    """What the data show, for a row that did not pass: the reason up to the physics."""
+    if row["status"] not in ("unresolved", "contradicted", "failed", "missing"):
+        return ""
+    text = row.get("reason", "").split(". paper:")[0]
+    for prefix in _WHY_PREFIXES:
+        text = text.removeprefix(prefix)
+    return text
+
+
 def table_rows(record: dict) -> list[dict]:
     return [{"statement": r["statement"], "check": r.get("check", ""), "measured": _measured(r),
-             "fit": _fit(r), "result": STATUS_TEXT[r["status"]],
-             "why": (r.get("reason", "").split(". paper:")[0].removeprefix("not resolved at this tier: ")
-                     if r["status"] == "unresolved" else "")}
+             "fit": _fit(r), "result": STATUS_TEXT[r["status"]], "why": _why(r)}
             for r in record["rows"]]
 
 
@@ -149,5 +168,5 @@ def sections(records: list[tuple[str, dict]]) -> list[dict]:
     """One headline table per (source, record), e.g. ("Stored", record): its title,
     scale, command and rows (table_rows), for scripts/templates/headline.*.j2."""
     return [{"title": _title(record, source), "scale": record["scale"], "command": record["command"],
-             "rows": table_rows(record)}
+             "reevaluated": record.get("reevaluated", ""), "rows": table_rows(record)}
             for source, record in records]

@@ -12,12 +12,14 @@ The contract (docs/trends.md, "Input files"):
 - SWEEP/runs/<run>/cycles.csv: ``cycle``, ``peak_pressure``, ``t_peak``,
   ``V_over_V0_end_cooling``, ``V_over_V0_end_heating``.
 - SWEEP/runs/<run>/displacement_<a>_<b>.csv: ir, iz, r, z, ur, uz, count, w.
+- SWEEP/runs/<run>/run.json: ``summary.steady_cycles`` (the cycles P_max averages).
 
 Every per-run file is optional; readers return None and the caller notes why.
 """
 
 from __future__ import annotations
 
+import json
 import re
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -281,6 +283,37 @@ def end_of_cycle_volumes(folder: Path | None) -> tuple[np.ndarray | None, str]:
         return None, "timeseries.csv: no cold hold found"
     values = [volume[0]] + [volume[last] for first, last in ends if first > 0]
     return np.asarray(values, dtype=float), "timeseries.csv V_over_V0 at the end of each cold hold"
+
+
+def steady_peaks(folder: Path | None) -> tuple[dict | None, str]:
+    """The peak pressures of the cycles that P_max averages, for the steady-state check.
+
+    The window is run.json's ``summary.steady_cycles`` [a, b] (inclusive, cycle numbers
+    from 0); without it, the engine's default, the second half [floor(N/2), N - 1] of
+    the N rows of cycles.csv. Cut at the cycles reached. Returns ({"cycles", "peaks",
+    "window", "window_source"}, "") or (None, why not)."""
+    if folder is None:
+        return None, "no run folder"
+    cycles = read_cycles(folder)
+    if cycles is None or not {"cycle", "peak_pressure"}.issubset(cycles.columns):
+        return None, "no cycles.csv with cycle and peak_pressure"
+    cycles = cycles.sort_values("cycle")
+    window, source = None, "the default second half of the cycles (no steady_cycles in run.json)"
+    try:
+        summary = json.loads((folder / "run.json").read_text(encoding="utf-8")).get("summary") or {}
+        value = summary.get("steady_cycles")
+        if isinstance(value, list) and len(value) == 2 and all(isinstance(v, int) for v in value):
+            window, source = (int(value[0]), int(value[1])), "run.json summary.steady_cycles"
+    except (OSError, ValueError, AttributeError):
+        pass
+    if window is None:
+        count = len(cycles)
+        window = (count // 2, count - 1)
+    keep = (cycles["cycle"] >= window[0]) & (cycles["cycle"] <= window[1])
+    chosen = cycles[keep & np.isfinite(cycles["peak_pressure"])]
+    return ({"cycles": chosen["cycle"].to_numpy(dtype=float),
+             "peaks": chosen["peak_pressure"].to_numpy(dtype=float),
+             "window": [int(window[0]), int(window[1])], "window_source": source}, "")
 
 
 def first_realizations(frame: pd.DataFrame, column: str) -> pd.DataFrame:

@@ -35,8 +35,8 @@ def checks_file_name(folders: Iterable[Path]) -> str:
 
 
 def write_checks(folder: Path, name: str, results) -> Path | None:
-    """One JSON line per passed, failed or not-resolved check (skipped ones have no
-    such state).
+    """One JSON line per passed, failed, not-resolved or contradicted check (skipped
+    ones have no such state).
     With none, an earlier file of the same name is removed (it would not describe
     this run). Returns the path written, or None."""
     folder.mkdir(parents=True, exist_ok=True)
@@ -59,7 +59,8 @@ def _measured(value) -> str:
     return f"{value:.6g}"
 
 
-RESULT_TEXT = {"passed": "PASS", "failed": "FAIL", "unresolved": "NOT RESOLVED", "skipped": "SKIP"}
+RESULT_TEXT = {"passed": "PASS", "failed": "FAIL", "unresolved": "NOT RESOLVED",
+               "contradicted": "CONTRADICTED", "skipped": "SKIP"}
 
 
 def terminal_table(results) -> str:
@@ -80,7 +81,7 @@ def terminal_table(results) -> str:
 
 
 def counts(results) -> dict:
-    out = {"passed": 0, "failed": 0, "unresolved": 0, "skipped": 0}
+    out = {"passed": 0, "failed": 0, "unresolved": 0, "contradicted": 0, "skipped": 0}
     for r in results:
         out[r.status] += 1
     return out
@@ -100,12 +101,14 @@ def _num(value, digits: int = 4) -> str:
 def render_markdown(meta: dict, analyses, results, figures: list[Path], notes: list[str],
                     out_dir: Path) -> str:
     total = counts(results)
-    verdict = ("FAILED" if total["failed"] else "PASSED")
+    verdict = ("FAILED" if total["failed"] else
+               "NO FAILURE, CONTRADICTED AT REDUCED SCALE" if total["contradicted"] else "PASSED")
     out = ["# Paper trends", ""]
     for key, value in meta.items():
         out.append(f"- {key}: {value}")
     out += [f"- Checks: {total['passed']} passed, {total['failed']} failed, "
-            f"{total['unresolved']} not resolved, {total['skipped']} skipped", "",
+            f"{total['unresolved']} not resolved, {total['contradicted']} contradicted at reduced "
+            f"scale, {total['skipped']} skipped", "",
             f"**{verdict}**" + (" (skipped checks lacked data; they are not passes)"
                                 if total["skipped"] else ""), "",
             "## Checks", "",
@@ -113,7 +116,7 @@ def render_markdown(meta: dict, analyses, results, figures: list[Path], notes: l
             "|---|---|---|---|---|---|---|"]
     for r in results:
         result = {"passed": "PASS", "failed": "**FAIL**", "unresolved": "*NOT RESOLVED*",
-                  "skipped": "SKIP"}[r.status]
+                  "contradicted": "**CONTRADICTED**", "skipped": "SKIP"}[r.status]
         out.append(f"| {_md(r.case)} | {_md(r.check)} | {_measured(r.measured)} | "
                    f"{_md(r.expected)} | {_md(r.tolerance)} | {result} | {_md(r.reason)} |")
     if notes:
@@ -154,7 +157,11 @@ def render_markdown(meta: dict, analyses, results, figures: list[Path], notes: l
             h = a.halving
             out += ["", f"P_max(6 deg)/P_max(0 deg) = {_num(h['ratio'])} ± {_num(h['sigma'])} "
                         f"({h['propagation']}; n = {h['numerator']['n']} and "
-                        f"{h['denominator']['n']} realizations)"]
+                        f"{h['denominator']['n']} realizations; Welch-Satterthwaite dof "
+                        f"{_num(h['dof'], 3)})"]
+        if a.steady:
+            out += ["", "Steady state of the peaks (check `pmax_steady`): " + "; ".join(
+                f"{a.point_label(v)} {s['state']}" for v, s in sorted(a.steady.items()))]
     if figures:
         out += ["", "## Figures"]
         for figure in figures:
@@ -182,6 +189,7 @@ def analysis_json(a) -> dict:
         "metrics": metrics,
         "ratio_6_over_0": a.halving,
         "volume": {k: v for k, v in a.volume.items()},
+        "steady": {f"{v:g}": s for v, s in sorted(a.steady.items())},
         "checks": [r.to_dict() for r in a.results],
         "notes": a.notes,
     }

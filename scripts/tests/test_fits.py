@@ -12,6 +12,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 import pytest
+from scipy import stats
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
@@ -183,3 +184,52 @@ def test_fit_result_serializes():
     data = fits.linear_fit(x, y).to_dict(curve_points=5)
     assert data["degree"] == 1 and len(data["coefficients"]) == 2
     assert len(data["curve"]["x"]) == 5 and data["dof"] == 23
+
+
+# --------------------------------------------------------------------------- tests of shape
+
+
+def test_curvature_test_is_the_f_test_of_nested_fits_and_the_t_test_of_c2():
+    x, y = quadratic_data(sigma=0.2)
+    test = fits.curvature_test(x, y)
+    line, quad = fits.linear_fit(x, y), fits.quadratic_fit(x, y)
+    f_value = (line.ss_res - quad.ss_res) / (quad.ss_res / (x.size - 3))
+    assert test["F"] == pytest.approx(f_value)
+    assert test["F"] == pytest.approx(test["t"] ** 2)          # one extra parameter
+    assert test["p"] == pytest.approx(stats.f.sf(f_value, 1, x.size - 3))
+    assert test["c2"] == pytest.approx(quad.coef[2]) and test["dof"] == x.size - 3
+    assert test["p"] < 0.05 and test["c2"] > 0                 # TRUTH bends up by 0.05
+
+
+def test_curvature_test_of_a_straight_line_is_not_significant_in_most_draws():
+    # Under a straight line p is uniform: about 5 % of the draws fall below 0.05.
+    below = 0
+    for seed in range(200):
+        rng = np.random.default_rng(seed)
+        x = np.repeat(np.arange(5.0), 5)
+        below += fits.curvature_test(x, 1.0 + 0.5 * x + rng.normal(0, 0.3, x.size))["p"] < 0.05
+    assert 2 <= below <= 20   # binomial(200, 0.05): mean 10, sd 3.1
+
+
+def test_curvature_test_needs_a_scatter_estimate():
+    with pytest.raises(fits.FitError):
+        fits.curvature_test([0.0, 1.0, 2.0], [0.0, 1.0, 4.0])
+
+
+def test_t_quantile_and_mean_interval_are_student_t():
+    assert fits.t_quantile(0.95, 4) == pytest.approx(2.776445, rel=1e-6)
+    assert math.isnan(fits.t_quantile(0.95, 0))
+    stat = fits.mean_interval([1.0, 2.0, 3.0], 0.95)
+    assert stat["sem"] == pytest.approx(1.0 / math.sqrt(3.0))
+    assert stat["low"] == pytest.approx(2.0 - 4.302653 / math.sqrt(3.0), rel=1e-6)
+    assert math.isnan(fits.mean_interval([1.0], 0.95)["low"])
+
+
+def test_ratio_dof_is_welch_satterthwaite():
+    a, b = [10.0, 11.0, 12.0, 9.0, 13.0], [20.0, 26.0, 22.0]
+    r = fits.ratio_of_means(a, b)
+    first = r["numerator"]["sem"] / r["denominator"]["mean"]
+    second = r["ratio"] * r["denominator"]["sem"] / r["denominator"]["mean"]
+    assert r["sigma"] == pytest.approx(math.hypot(first, second))
+    assert r["dof"] == pytest.approx(r["sigma"] ** 4 / (first ** 4 / 4 + second ** 4 / 2))
+    assert 2 <= r["dof"] <= 6

@@ -139,6 +139,52 @@ def test_a_not_resolved_check_is_neither_a_pass_nor_a_failure(folders, capsys):
     assert '<tr class="unresolved">' in (out / "report.html").read_text(encoding="utf-8")
 
 
+CONTRADICTED = dict(check("trends_angle:headline", "W_rms[0-3] slope vs theta_c", -0.0145, "0",
+                          "abs 2.5 SE = 0.0133", "contradicted at this scale (reduced): the slope resolves a "
+                          "dependence on theta_c", False), resolved=True, contradicted=True)
+
+
+def test_a_contradiction_at_reduced_scale_is_counted_apart_and_is_not_a_failure(folders, capsys):
+    """docs/trends.md, "States": not a pass, not a failure (exit 0), its own column."""
+    checks, out = folders
+    write_checks(checks, [MIXED[0], CONTRADICTED])
+    assert run(checks, out) == 0
+    captured = capsys.readouterr().out
+    assert captured.splitlines()[-1] == "checks: 1 passed, 0 failed, 1 contradicted at reduced scale"
+    assert "Contradicted at a reduced scale" in captured and "CONTRADICTED" in captured
+    markdown = (out / "report.md").read_text(encoding="utf-8")
+    assert "**CONTRADICTED**" in markdown and "NO FAILURE, 1 of 2 checks CONTRADICTED" in markdown
+    page = (out / "report.html").read_text(encoding="utf-8")
+    assert '<tr class="contradicted">' in page and 'class="verdict contradicted"' in page
+    frame = report.load_checks(checks)
+    assert report.totals(frame) == (1, 0, 0, 1)
+
+
+def test_a_contradiction_beside_a_failure_still_fails(folders):
+    checks, out = folders
+    write_checks(checks, [MIXED[1], CONTRADICTED])
+    assert run(checks, out) == 1
+    assert report.totals(report.load_checks(checks)) == (0, 1, 0, 1)
+
+
+@pytest.mark.parametrize("line, message", [
+    (dict(CONTRADICTED, passed=True), "a contradicted check must have"),
+    (dict(CONTRADICTED, resolved=False), "a contradicted check must have"),
+    (dict(CONTRADICTED, contradicted="yes"), "'contradicted' must be true or false"),
+])
+def test_a_contradicted_line_that_passes_or_is_unresolved_is_malformed(folders, capsys, line, message):
+    checks, out = folders
+    write_checks(checks, [line])
+    assert run(checks, out) == 2
+    assert message in capsys.readouterr().err
+
+
+def test_a_contradicted_line_without_a_number_is_a_failure(folders):
+    checks, out = folders
+    write_checks(checks, [dict(CONTRADICTED, measured=None)])
+    assert run(checks, out) == 1
+
+
 def test_a_failed_check_stays_failed_whatever_resolved_says(folders, capsys):
     checks, out = folders
     write_checks(checks, [dict(MIXED[1], resolved=False)])
@@ -398,7 +444,7 @@ def test_a_sweep_of_this_run_comes_first(folders, tmp_path):
                 "analyses": [], "counts": {},
                 "checks": [{"id": "pmax_ratio_6_0", "check": "P_max(6 deg)/P_max(0 deg)",
                             "status": "unresolved", "measured": 0.8, "tolerance": "abs 0.35",
-                            "reason": "not resolved at this tier: one realization at 0 or 6 deg. paper: x",
+                            "reason": "not resolved at this scale: one realization at 0 or 6 deg. paper: x",
                             "detail": {"sigma": None}}]}
     (out / "trends.json").write_text(json.dumps(document), encoding="utf-8")
     assert run(checks, out, "--results", str(tmp_path / "none")) == 0
@@ -446,15 +492,18 @@ def test_the_summary_counts_checks_per_area_and_the_contents_link_every_section(
                check("box on box (aligned)", "points", 4.0, passed=False),
                check("trends_angle:angle", "P_max slope", -0.8, passed=True),
                dict(check("trends_angle:angle", "P_max(6 deg)/P_max(0 deg)", 0.61, passed=True), resolved=False),
+               dict(check("trends_angle:angle", "W_rms[0-3] slope vs theta_c", -0.017, passed=False),
+                    resolved=True, contradicted=True),
                check("something new", "x", 2.0, passed=True)]
     write_checks(checks, records)
     assert run(checks, out) == 1
     markdown = (out / "report.md").read_text(encoding="utf-8")
     summary = markdown.split("## Summary", 1)[1].split("## The paper's headline trends", 1)[0]
-    assert "| The paper's trends | 1 | 0 | 1 | 2 |" in summary
-    assert "| Polyhedron contact | 0 | 1 | 0 | 1 |" in summary
-    assert "| Analytic cases | 1 | 0 | 0 | 1 |" in summary
-    assert "| Other checks | 1 | 0 | 0 | 1 |" in summary
+    assert "| area | passed | failed | not resolved | contradicted | checks |" in summary
+    assert "| The paper's trends | 1 | 0 | 1 | 1 | 3 |" in summary
+    assert "| Polyhedron contact | 0 | 1 | 0 | 0 | 1 |" in summary
+    assert "| Analytic cases | 1 | 0 | 0 | 0 | 1 |" in summary
+    assert "| Other checks | 1 | 0 | 0 | 0 | 1 |" in summary
     assert markdown.index("## Summary") < markdown.index("## Checks of this run")
     page = (out / "report.html").read_text(encoding="utf-8")
     for anchor in ("summary", "headline", "checks"):

@@ -1,0 +1,283 @@
+"""Runs what is left of the plan within a time budget (docs/campaign.md, "Budget and
+stopping"): a run starts only when the budget's time left covers its estimated cost;
+when the budget ends (or on SIGTERM or SIGINT) every engine gets one SIGTERM, writes a
+checkpoint and exits, and the next invocation resumes from there."""
+
+from __future__ import annotations
+
+import datetime
+import json
+import os
+import signal
+import socket
+import subprocess
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from common.paths import REPO_ROOT
+
+from . import store
+from .engine import Engine, file_sha256
+from .plan import Plan, same_json
+from .state import RunState, hours
+from .workdir import collect_packings, share_packings
+
+POLL_SECONDS = 0.5
+
+
+def now_iso() -> str:
+    return datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds")
+
+
+def shown(path: Path) -> str:
+    """A path relative to the repository when inside it (provenance names no outside paths
+    when it need not)."""
+    path = Path(path).resolve()
+    return str(path.relative_to(REPO_ROOT)) if REPO_ROOT in path.parents else str(path)
+
+
+@dataclass
+class Active:
+    state: RunState
+    proc: subprocess.Popen
+    lock_fd: int
+    command: list
+    started: float
+    started_iso: str
+    stopping: bool = False
+
+
+@dataclass
+class Outcome:
+    stored: list = field(default_factory=list)
+    stopped: list = field(default_factory=list)
+    failed: list = field(default_factory=list)
+    signal: int | None = None
+
+
+class Runner:
+    def __init__(self, plan: Plan, work: Path, results: Path, engine: Engine, golden_check: dict | None,
+                 launcher: list, jobs: int, estimate_seconds: float, budget_seconds: float,
+                 stop_margin: float, progress_every: float, commit: bool, say):
+        self.plan, self.work, self.results, self.engine = plan, work, results, engine
+        self.golden_check, self.launcher, self.jobs = golden_check, launcher, jobs
+        self.estimate = estimate_seconds
+        self.start = time.monotonic()
+        self.stop_at = self.start + budget_seconds - stop_margin
+        self.grace = max(stop_margin, 5.0)
+        self.progress_every, self.commit, self.say = progress_every, commit, say
+        self.pool = work / "packings" / engine.key
+        self.signal = None
+        self.binary_changed = False
+
+    # ------------------------------------------------------------------ signals --
+    def _on_signal(self, signum, _frame):
+        self.signal = signum
+
+    def left(self) -> float:
+        return self.stop_at - time.monotonic()
+
+    # -------------------------------------------------------------------- loop --
+    def run(self, queue: list) -> Outcome:
+        outcome = Outcome()
+        old = {s: signal.signal(s, self._on_signal) for s in (signal.SIGTERM, signal.SIGINT)}
+        active: dict = {}
+        last_report = time.monotonic()
+        try:
+            queue = list(queue)
+            while True:
+                if self.signal is not None or self.left() <= 0:
+                    if active:
+                        why = (f"{signal.Signals(self.signal).name} received" if self.signal is not None
+                               else "the budget ends")
+                        self.say(f"{why}: stopping {len(active)} run(s) with SIGTERM (each writes a checkpoint)")
+                        self._stop_all(active, outcome)
+                    elif queue and self.signal is None:
+                        self.say(f"budget: {len(queue)} run(s) left for the next invocation")
+                    break
+                while len(active) < self.jobs and queue:
+                    state = self._next_fitting(queue)
+                    if state is None:
+                        break
+                    started = self._start(state)
+                    if started:
+                        active[started.proc.pid] = started
+                if not active:
+                    if queue and not self.binary_changed:
+                        self.say(f"budget: {hours(self.left())} left, less than the next run's estimate; "
+                                 f"{len(queue)} run(s) left for the next invocation")
+                    break
+                self._reap(active, outcome, block=False)
+                if time.monotonic() - last_report >= self.progress_every:
+                    self._report(active)
+                    last_report = time.monotonic()
+                time.sleep(POLL_SECONDS)
+        finally:
+            if active:   # an exception: the engines still get their SIGTERM and checkpoint
+                self._stop_all(active, outcome)
+            for sig, handler in old.items():
+                signal.signal(sig, handler)
+        outcome.signal = self.signal
+        return outcome
+
+    def _next_fitting(self, queue: list):
+        """The first run of the queue whose estimated remaining cost fits the time left;
+        the ones that do not fit are dropped for this invocation."""
+        while queue and not self.binary_changed:
+            state = queue[0]
+            state.progress = state.folder.progress()
+            need = self.estimate * (1.0 - state.progress.fraction)
+            if need <= self.left():
+                queue.pop(0)
+                return state
+            self.say(f"budget: not starting {state.run.label}: {hours(self.left())} left, it needs about "
+                     f"{hours(need)}")
+            queue.pop(0)
+        return None
+
+    def _start(self, state: RunState) -> Active | None:
+        folder = state.folder
+        if file_sha256(self.engine.binary) != self.engine.binary_sha256:
+            # Rebuilt under us: the provenance would name the wrong engine.
+            self.say(f"the engine binary {self.engine.binary} changed since this invocation started; "
+                     "no new run starts (run the command again to go on with the new engine)")
+            self.binary_changed = True
+            return None
+        fd = folder.lock()
+        if fd is None:
+            self.say(f"skip {state.run.label}: another process is running it (lock {folder.lock_file})")
+            return None
+        if folder.forget_other_engine(self.engine):
+            self.say(f"{state.run.label}: its work folder was of another engine; starting it over")
+        folder.write_sweep(self.plan)
+        share_packings(self.pool, folder.out)
+        ledger = folder.ledger()
+        ledger["engine"] = self.engine.record()
+        folder.save_ledger(ledger)
+        progress = folder.progress()
+        command = [*self.launcher, str(self.engine.binary), "sweep", str(folder.sweep_file), "--out",
+                   str(folder.out), "--jobs", "1"]
+        with open(folder.log, "a") as log:
+            log.write(f"\n=== {now_iso()} scripts/campaign: {' '.join(command)}\n")
+            log.flush()
+            env = dict(os.environ, OMP_NUM_THREADS="1")
+            proc = subprocess.Popen(command, stdout=log, stderr=subprocess.STDOUT, stdin=subprocess.DEVNULL,
+                                    pass_fds=(fd,), start_new_session=True, env=env)
+        how = "new" if progress.stage in ("not started", "pouring") else f"resumes: {progress.text()}"
+        stale = f"; rerun of a stale result ({state.verdict.reason})" if state.stale else ""
+        self.say(f"start {state.run.label} ({how}{stale}); {hours(self.left())} of the budget left; "
+                 f"log {folder.log}")
+        return Active(state=state, proc=proc, lock_fd=fd, command=command, started=time.monotonic(),
+                      started_iso=now_iso())
+
+    def _reap(self, active: dict, outcome: Outcome, block: bool) -> None:
+        for pid in list(active):
+            try:
+                got, status, usage = os.wait4(pid, 0 if block else os.WNOHANG)
+            except ChildProcessError:
+                got, status, usage = pid, 0, None
+            if got == 0:
+                continue
+            item = active.pop(pid)
+            item.proc.returncode = os.waitstatus_to_exitcode(status)
+            cpu = (usage.ru_utime + usage.ru_stime) if usage else 0.0
+            self._finished(item, item.proc.returncode, cpu, outcome)
+
+    def _finished(self, item: Active, code: int, cpu: float, outcome: Outcome) -> None:
+        state, folder = item.state, item.state.folder
+        wall = time.monotonic() - item.started
+        ledger = folder.ledger()
+        ledger["segments"].append({"start": item.started_iso, "end": now_iso(), "wall_seconds": round(wall, 1),
+                                   "cpu_seconds": round(cpu, 1), "exit_status": code,
+                                   "host": socket.gethostname(), "command": [shown(c) if "/" in c else c
+                                                                             for c in item.command]})
+        folder.save_ledger(ledger)
+        collect_packings(self.pool, folder.out)
+        os.close(item.lock_fd)
+        progress = folder.progress()
+        label = state.run.label
+        if code == 0 and progress.stage == "completed":
+            try:
+                where = self._store(state, ledger)
+            except (OSError, ValueError, RuntimeError) as error:
+                self.say(f"run {label} completed but was NOT stored: {error}")
+                outcome.failed.append(label)
+                return
+            total_cpu = sum(s["cpu_seconds"] for s in ledger["segments"])
+            self.say(f"done {label} in {hours(wall)} (this session), {hours(total_cpu)} CPU in all; "
+                     f"stored in {shown(where)}")
+            outcome.stored.append(label)
+        elif item.stopping and progress.stage != "failed":
+            # Judged by the folder, not the exit status: mpirun reports a rank stopped by
+            # SIGTERM as 1.
+            self.say(f"stopped {label}: {progress.text()}; the next invocation resumes it")
+            outcome.stopped.append(label)
+        else:
+            tail = ""
+            try:
+                tail = folder.log.read_text(errors="replace").strip().splitlines()[-1]
+            except (OSError, IndexError):
+                pass
+            self.say(f"run {label} FAILED (exit {code}): {tail} (log {folder.log})")
+            outcome.failed.append(label)
+
+    def _store(self, state: RunState, ledger: dict) -> Path:
+        folder, run = state.folder, state.run
+        run_json = json.loads((folder.run_dir / "run.json").read_text())
+        if not same_json(run_json.get("scene"), self.plan.scene_for(run)):
+            raise ValueError(f"{folder.run_dir / 'run.json'}: its scene is not the plan's scene for {run.label} "
+                             "(the campaign's composition of the scene disagrees with the engine's)")
+        segments = ledger["segments"]
+        sweep = folder.sweep(self.plan)
+        sweep["scene"] = shown(self.plan.scene_path)
+        provenance = {
+            "format": 1,
+            "campaign": self.plan.name, "plan_file": shown(self.plan.path),
+            "point": run.point.name, "point_set": run.point.set, "seed": run.seed,
+            "scene_file": shown(self.plan.scene_path), "scene_hash": run_json.get("scene_hash"),
+            "sweep": sweep,
+            "command": " ".join(segments[-1]["command"]),
+            "engine": self.engine.record(),
+            "golden_check": self.golden_check,
+            "date": now_iso(), "host": socket.gethostname(),
+            "started": segments[0]["start"] if segments else None,
+            "segments": len(segments),
+            "cpu_seconds": round(sum(s["cpu_seconds"] for s in segments), 1),
+            "wall_seconds": round(sum(s["wall_seconds"] for s in segments), 1),
+            "engine_wall_seconds": run_json.get("wall_seconds"),
+            "steps": run_json.get("steps"),
+        }
+        where = store.store(self.results, run, folder.run_dir, provenance)
+        if self.commit:
+            message = (f"campaign {self.plan.name}: store {run.label} (engine {self.engine.short}, "
+                       f"{provenance['cpu_seconds'] / 3600:.2f} CPU h)")
+            commit = store.git_commit_folder(where, message)
+            self.say(f"committed {run.label} as {commit}")
+        return where
+
+    def _stop_all(self, active: dict, outcome: Outcome) -> None:
+        for item in active.values():
+            item.stopping = True
+            try:
+                item.proc.send_signal(signal.SIGTERM)   # once: a second SIGTERM ends the engine at once
+            except ProcessLookupError:
+                pass
+        deadline = time.monotonic() + self.grace
+        while active and time.monotonic() < deadline:
+            self._reap(active, outcome, block=False)
+            time.sleep(POLL_SECONDS)
+        for item in active.values():
+            self.say(f"{item.state.run.label}: no exit {self.grace:.0f} s after SIGTERM; SIGKILL "
+                     "(its last periodic checkpoint remains)")
+            try:
+                os.killpg(item.proc.pid, signal.SIGKILL)
+            except ProcessLookupError:
+                pass
+        self._reap(active, outcome, block=True)
+
+    def _report(self, active: dict) -> None:
+        for item in active.values():
+            progress = item.state.folder.progress()
+            self.say(f"progress {item.state.run.label}: {progress.text()}, {hours(time.monotonic() - item.started)} "
+                     f"so far; {hours(self.left())} of the budget left")

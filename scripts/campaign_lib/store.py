@@ -1,0 +1,116 @@
+"""Stored results: RESULTS/<point>/seed<s>/ holds a finished run's small files and its
+provenance.json, written last, so a folder without it is not a stored run
+(docs/campaign.md, "Stored results")."""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import re
+import subprocess
+from dataclasses import dataclass
+from pathlib import Path
+
+from common.fsutil import write_atomic
+
+from .engine import same_engine
+from .golden import same_golden_pass
+from .plan import Run, same_json
+
+PROVENANCE = "provenance.json"
+#: The small files of a run folder worth keeping (docs/output-format.md); bodies.csv,
+#: timeseries.csv, bodies_shapes.json, vtk/ and the checkpoint are left in the work folder.
+KEEP = re.compile(r"^(run\.json|cycles\.csv|wall_profile\.csv|displacement_\d+_\d+\.csv)$")
+#: A kept kind larger than this is not stored (named in the provenance instead).
+MAX_BYTES = 2_000_000
+
+
+@dataclass
+class Stored:
+    folder: Path
+    provenance: dict
+    run_json: dict
+
+
+@dataclass
+class Verdict:
+    current: bool
+    reason: str
+
+
+def folder_of(results: Path, run: Run) -> Path:
+    return results / run.point.name / f"seed{run.seed}"
+
+
+def read(results: Path, run: Run) -> Stored | None:
+    folder = folder_of(results, run)
+    try:
+        provenance = json.loads((folder / PROVENANCE).read_text())
+        run_json = json.loads((folder / "run.json").read_text())
+    except (OSError, ValueError):
+        return None
+    if run_json.get("status") != "completed":
+        return None
+    return Stored(folder=folder, provenance=provenance, run_json=run_json)
+
+
+def judge(stored: Stored, scene: dict, engine: dict, golden_now: dict | None) -> Verdict:
+    """The reuse rule: the same scene, and the same engine or two engines that both
+    reproduced the same golden data bit for bit."""
+    if not same_json(stored.run_json.get("scene"), scene):
+        return Verdict(False, "its scene differs from the plan's (plan or base scene changed)")
+    old = stored.provenance.get("engine", {})
+    if same_engine(old, engine):
+        return Verdict(True, "same engine")
+    old_check = stored.provenance.get("golden_check")
+    if same_golden_pass(old_check, golden_now):
+        return Verdict(True, f"engine {str(old.get('engine_commit'))[:10]} -> current: both pass the "
+                             "bit-for-bit golden check on the same golden data")
+    if not (old_check and old_check.get("passed")):
+        why = "no golden pass recorded for its engine"
+    elif golden_now is None:
+        why = "the current engine's golden check has not been run"
+    elif not golden_now.get("passed"):
+        why = "the current engine fails the bit-for-bit golden check"
+    else:
+        why = "the two golden checks used different golden data"
+    dirty = "+dirty" if old.get("engine_dirty") else ""
+    return Verdict(False, f"engine {str(old.get('engine_commit'))[:10]}{dirty} is not the current one and {why}")
+
+
+def store(results: Path, run: Run, run_dir: Path, provenance: dict) -> Path:
+    """Copies the run's small files and writes provenance.json last. A stale result there
+    is replaced: its provenance goes first, so the folder never looks complete meanwhile."""
+    folder = folder_of(results, run)
+    (folder / PROVENANCE).unlink(missing_ok=True)
+    files, omitted = {}, []
+    for path in sorted(run_dir.iterdir()):
+        if not path.is_file() or not KEEP.match(path.name):
+            continue
+        data = path.read_bytes()
+        if len(data) > MAX_BYTES:
+            omitted.append({"file": path.name, "bytes": len(data), "why": f"larger than {MAX_BYTES} bytes"})
+            continue
+        write_atomic(folder / path.name, data)
+        files[path.name] = {"bytes": len(data), "sha256": hashlib.sha256(data).hexdigest()}
+    for old in folder.iterdir():
+        if old.is_file() and old.name not in files and old.name != PROVENANCE:
+            old.unlink()
+    write_atomic(folder / PROVENANCE, json.dumps({**provenance, "files": files, "omitted": omitted},
+                                                 indent=1, sort_keys=True) + "\n")
+    return folder
+
+
+def git_commit_folder(folder: Path, message: str) -> str:
+    """Commits that folder only (other staged changes are left out); returns the commit."""
+    top = subprocess.run(["git", "-C", str(folder), "rev-parse", "--show-toplevel"], capture_output=True,
+                         text=True, check=False)
+    if top.returncode != 0:
+        raise RuntimeError(f"--commit: {folder} is not in a git checkout")
+    repo = top.stdout.strip()
+    for args in (["add", "--", str(folder)], ["commit", "-q", "-m", message, "--", str(folder)]):
+        done = subprocess.run(["git", "-C", repo, *args], capture_output=True, text=True, check=False)
+        if done.returncode != 0:
+            raise RuntimeError(f"--commit: git {args[0]} failed: {done.stderr.strip() or done.stdout.strip()}")
+    return subprocess.run(["git", "-C", repo, "rev-parse", "--short", "HEAD"], capture_output=True, text=True,
+                          check=False).stdout.strip()

@@ -1,0 +1,227 @@
+"""scripts/campaign on the real engine with tiny stand-in plans (docs/campaign.md): the
+quick bed cut to 12 polyhedra, a loose settle threshold and h = 0.005, 2 points x 2
+seeds (about a second of CPU for all four runs). Checked: runs stored with their
+provenance; a second invocation runs nothing; a budget that ends mid-run leaves a run
+that the next invocation completes with the bytes of an uninterrupted run; stale results
+are rerun and results of an engine that passed the golden check are reused; bad plans
+are refused naming the file and the field; --assemble gives sweep folders that
+scripts/analysis/inputs.py reads; --commit commits each stored run."""
+
+from __future__ import annotations
+
+import json
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+SCRIPTS = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(SCRIPTS))
+
+from analysis.inputs import load_sweep, read_cycles, displacement_files  # noqa: E402
+from campaign_lib import golden  # noqa: E402
+from campaign_lib.engine import identify  # noqa: E402
+from common.paths import REPO_ROOT, engine_binary  # noqa: E402
+
+RATCHET = engine_binary()
+pytestmark = pytest.mark.skipif(not RATCHET.is_file(), reason=f"engine not built ({RATCHET})")
+CAMPAIGN = [sys.executable if sys.executable.endswith("python3") else "/usr/bin/python3",
+            str(SCRIPTS / "campaign")]
+TINY_SET = {"particles.generate.count": 12, "settle.ke_ratio": 1e-3, "thermal.cycles": 1, "time.dt": 0.005,
+            "outputs.checkpoint_every": 200, "outputs.timeseries_every": 10}
+
+
+def write_plan(folder: Path, name="tiny", seed_list=(1, 2), angles=(0, 6), **changes) -> Path:
+    plan = {"description": "tiny stand-in of the paper plan (tests)",
+            "scene": str(REPO_ROOT / "validation" / "sweeps" / "bed_quick.json"),
+            "set": dict(TINY_SET), "seeds": list(seed_list), "run_cost_hours": 0.0001,
+            "points": [{"name": f"theta{a}", "set": {"container.opening_angle_deg": a}} for a in angles],
+            "parts": [{"name": "angle", "sweep": "container.opening_angle_deg",
+                       "points": [f"theta{a}" for a in angles]}]}
+    for key, value in changes.items():
+        if value is None:
+            plan.pop(key, None)
+        else:
+            plan[key] = value
+    path = folder / f"{name}.json"
+    path.write_text(json.dumps(plan, indent=1))
+    return path
+
+
+def campaign(plan: Path, work: Path, results: Path, *args, check=True) -> subprocess.CompletedProcess:
+    done = subprocess.run([*CAMPAIGN, str(plan), "--out", str(work), "--results", str(results),
+                           "--ratchet", str(RATCHET), *args], capture_output=True, text=True, timeout=300)
+    if check:
+        assert done.returncode == 0, done.stdout + done.stderr
+    return done
+
+
+def run_args(*extra):
+    return ["--budget", "0.2", "--golden-check", "skip", *extra]
+
+
+@pytest.fixture(scope="module")
+def tiny(tmp_path_factory):
+    root = tmp_path_factory.mktemp("campaign")
+    plan = write_plan(root)
+    first = campaign(plan, root / "work", root / "results", *run_args("--jobs", "2"))
+    return root, plan, first
+
+
+def provenance(results: Path, label: str) -> dict:
+    return json.loads((results / label / "provenance.json").read_text())
+
+
+def test_runs_are_stored_with_provenance_and_a_second_invocation_runs_nothing(tiny):
+    root, plan, first = tiny
+    results = root / "results"
+    labels = ["theta0/seed1", "theta6/seed1", "theta0/seed2", "theta6/seed2"]
+    for label in labels:
+        assert f"start {label} (new)" in first.stdout and f"done {label}" in first.stdout
+        folder = results / label
+        names = sorted(p.name for p in folder.iterdir())
+        assert names == ["cycles.csv", "displacement_0_1.csv", "provenance.json", "run.json"], names
+        p = provenance(results, label)
+        run_json = json.loads((folder / "run.json").read_text())
+        assert run_json["status"] == "completed"
+        assert p["scene_hash"] == run_json["scene_hash"]
+        assert p["engine"]["engine_commit"] and p["engine"]["version"].startswith("ratchet ")
+        assert isinstance(p["engine"]["engine_dirty"], bool) and p["engine"]["binary_sha256"]
+        assert p["cpu_seconds"] >= 0 and p["host"] and p["date"] and "sweep" in p["command"]
+        assert p["golden_check"] is None and p["seed"] == int(label[-1])
+        assert set(p["files"]) == {"cycles.csv", "displacement_0_1.csv", "run.json"}
+    before = {label: (results / label / "provenance.json").read_bytes() for label in labels}
+
+    again = campaign(plan, root / "work", results, *run_args())
+    assert "nothing to run" in again.stdout and "start " not in again.stdout
+    assert before == {label: (results / label / "provenance.json").read_bytes() for label in labels}
+    status = campaign(plan, root / "work", results, "--status")
+    assert "4 of 4 runs stored and current, 0 stale" in status.stdout
+    dry = campaign(plan, root / "work", results, "--dry-run")
+    assert "nothing to run" in dry.stdout
+
+
+def test_budget_ending_mid_run_leaves_a_run_the_next_invocation_completes_with_the_same_bytes(tmp_path):
+    # One run long enough to be stopped: 20 cycles (about 2 s of CPU).
+    plan = write_plan(tmp_path, name="long", seed_list=(3,), angles=(0,), set={**TINY_SET, "thermal.cycles": 20})
+    campaign(plan, tmp_path / "w_ref", tmp_path / "r_ref", *run_args())
+    reference = tmp_path / "r_ref" / "theta0" / "seed3"
+    took = provenance(tmp_path / "r_ref", "theta0/seed3")["wall_seconds"]
+
+    # The budget ends at about half of the uninterrupted run's time (after the pour).
+    stop_after = max(0.5, 0.5 * took)
+    hours = (stop_after + 0.5) / 3600
+    first = campaign(plan, tmp_path / "w", tmp_path / "r", "--budget", f"{hours:.8f}", "--stop-margin", "0.5",
+                     "--golden-check", "skip", "--run-hours", "0.00001")
+    assert "the budget ends: stopping 1 run(s) with SIGTERM" in first.stdout, first.stdout
+    assert "stopped theta0/seed3" in first.stdout and "resumes it" in first.stdout
+    run_dir = tmp_path / "w" / "runs" / "theta0" / "seed3" / "out" / "runs" / "0"
+    assert json.loads((run_dir / "run.json").read_text())["status"] == "interrupted"
+    assert (run_dir / "checkpoint.state").is_file()
+    assert not (tmp_path / "r" / "theta0" / "seed3").exists()
+    status = campaign(plan, tmp_path / "w", tmp_path / "r", "--status")
+    assert "theta0/seed3" in status.stdout and "interrupted, step" in status.stdout and "1 in progress" in status.stdout
+
+    second = campaign(plan, tmp_path / "w", tmp_path / "r", *run_args())
+    assert "start theta0/seed3 (resumes: interrupted" in second.stdout
+    stored = tmp_path / "r" / "theta0" / "seed3"
+    for name in ("cycles.csv", "displacement_0_1.csv", "displacement_10_20.csv"):
+        if (reference / name).exists():
+            assert (stored / name).read_bytes() == (reference / name).read_bytes(), name
+    assert provenance(tmp_path / "r", "theta0/seed3")["segments"] == 2
+    log = (tmp_path / "w" / "runs" / "theta0" / "seed3" / "engine.log").read_text()
+    assert "run 0 resumes at step" in log
+
+
+def fake_other_engine(results: Path, label: str, golden_check):
+    path = results / label / "provenance.json"
+    p = json.loads(path.read_text())
+    p["engine"].update(binary_sha256="0" * 64, engine_tree="f" * 40, engine_commit="deadbeef" * 5,
+                       engine_dirty=False)
+    p["golden_check"] = golden_check
+    path.write_text(json.dumps(p))
+
+
+def test_stale_results_are_rerun_and_golden_checked_ones_reused(tiny, tmp_path):
+    root, plan, _ = tiny
+    results, work = tmp_path / "results", tmp_path / "work"
+    shutil.copytree(root / "results", results)
+    state = golden.golden_state()
+    passed = {"passed": True, **state, "command": "regression/run --all --tol-scale 0"}
+    fake_other_engine(results, "theta0/seed1", None)          # no golden pass recorded: stale
+    fake_other_engine(results, "theta6/seed1", passed)        # golden pass on both: reused
+    # The current engine's golden check, as if run (the cache regression/run would fill).
+    engine = identify(RATCHET)
+    cache = golden.cache_file(work, engine, state)
+    cache.parent.mkdir(parents=True)
+    cache.write_text(json.dumps({**passed, "engine": engine.record()}))
+
+    status = campaign(plan, work, results, "--status")
+    line = next(l for l in status.stdout.splitlines() if "theta0/seed1" in l)
+    assert "STALE" in line and "no golden pass recorded" in line and "deadbeef" in line
+    line = next(l for l in status.stdout.splitlines() if "theta6/seed1" in l)
+    assert "stored" in line and "bit-for-bit golden check" in line, line
+    assert "3 of 4 runs stored and current, 1 stale" in status.stdout
+
+    rerun = campaign(plan, work, results, *run_args())
+    assert "start theta0/seed1 (new; rerun of a stale result" in rerun.stdout
+    assert "start theta6/seed1" not in rerun.stdout and "start theta0/seed2" not in rerun.stdout
+    p = provenance(results, "theta0/seed1")
+    assert p["engine"]["binary_sha256"] == engine.binary_sha256
+    assert p["golden_check"]["passed"] is True          # the current engine's record
+    assert (results / "theta0/seed1/cycles.csv").read_bytes() == \
+        (root / "results" / "theta0/seed1/cycles.csv").read_bytes()
+
+
+@pytest.mark.parametrize("change, field", [
+    ({"seeds": None}, "field 'seeds': missing"),
+    ({"seeds": [1, "2"]}, "field 'seeds': expected a non-empty list of integers >= 0"),
+    ({"run_cost_hours": 0}, "field 'run_cost_hours': expected a number > 0"),
+    ({"sedes": [1]}, "field 'sedes': unknown field"),
+    ({"scene": "no/such/scene.json"}, "field 'scene': cannot read"),
+    ({"points": [{"name": "a b", "set": {}}]}, "field 'points[0].name'"),
+    ({"parts": [{"name": "angle", "sweep": "container.opening_angle_deg", "points": ["theta9"]}]},
+     "field 'parts[0].points[0]': no point named 'theta9'"),
+    ({"points": [{"name": "theta0", "set": {"solver.p_gap": -1, "container.opening_angle_deg": 0}},
+                 {"name": "theta6", "set": {"container.opening_angle_deg": 6}}]},
+     "field 'points[0].set.solver.p_gap' (point 'theta0'): the engine refuses its scene"),
+], ids=["no-seeds", "seed-type", "run-cost", "unknown", "scene", "point-name", "part-point", "engine-refuses"])
+def test_bad_plan_files_are_refused_naming_the_file_and_the_field(tmp_path, change, field):
+    plan = write_plan(tmp_path, name="bad", **change)
+    done = campaign(plan, tmp_path / "work", tmp_path / "results", *run_args(), check=False)
+    assert done.returncode == 2, done.stdout + done.stderr
+    assert str(plan) in done.stderr and field in done.stderr, done.stderr
+    assert "Traceback" not in done.stderr
+    assert not (tmp_path / "results").exists() and not (tmp_path / "work" / "runs").exists()
+
+
+def test_assembled_sweep_folders_read_as_sweeps(tiny, tmp_path):
+    root, plan, _ = tiny
+    campaign(plan, root / "work", root / "results", "--assemble", str(tmp_path / "sweeps"))
+    sweep = load_sweep(tmp_path / "sweeps" / "angle")
+    assert sweep.kinds == ["angle"] and len(sweep.completed) == 4 and not sweep.failed_runs
+    assert sorted(sweep.completed["seed"]) == [1, 1, 2, 2]
+    assert sorted(sweep.completed["container.opening_angle_deg"]) == [0, 0, 6, 6]
+    for run in sweep.completed["run"]:
+        folder = tmp_path / "sweeps" / "angle" / "runs" / str(run)
+        assert read_cycles(folder) is not None and displacement_files(folder)
+    assert not list((tmp_path / "sweeps").glob(".*"))      # no half-built folder left
+
+
+def test_commit_makes_one_commit_per_stored_run(tmp_path):
+    repo = tmp_path / "repo"
+    repo.mkdir()
+    for args in (["init", "-q"], ["config", "user.email", "t@example.org"], ["config", "user.name", "t"]):
+        subprocess.run(["git", "-C", str(repo), *args], check=True)
+    (repo / "other.txt").write_text("staged, not to be committed\n")
+    subprocess.run(["git", "-C", str(repo), "add", "other.txt"], check=True)
+    plan = write_plan(tmp_path, name="one", seed_list=(1,), angles=(0, 6))
+    done = campaign(plan, tmp_path / "work", repo / "results", *run_args("--commit"))
+    assert done.stdout.count("committed ") == 2
+    log = subprocess.run(["git", "-C", str(repo), "log", "--format=%s", "--name-only"], capture_output=True,
+                         text=True, check=True).stdout
+    assert "campaign one: store theta0/seed1 (engine " in log and "campaign one: store theta6/seed1" in log
+    assert "other.txt" not in log
+    assert "results/theta0/seed1/provenance.json" in log
