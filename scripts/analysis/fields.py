@@ -10,7 +10,10 @@ them into the CheckResults of the checks defined in trends.CHECKS (``stage_*``,
 
 Uncertainties: per run, the standard error over its cycles (the bed's own noise); per
 sweep point, the standard error over the realizations when there are at least two,
-else the one run's standard error.
+else the one run's standard error; intervals are 95 % Student t (n - 1 dof), slopes
+over all runs use k SE, as the other checks of trends.py. The checks follow the states
+of docs/trends.md: passed, unresolved, contradicted (below the paper tier) or failed
+(at it), skipped.
 
 Signs: u_r > 0 is away from the axis, u_z > 0 upward. The circulation of a field in
 the (r, z) half-plane, r to the right and z up, is Gamma = sum over interior cells of
@@ -212,13 +215,16 @@ def bed_extent(f: StageFields) -> tuple[float, float]:
     return float((ir.max() + 1) * f.cell), float((iz.max() + 1) * f.cell)
 
 
-def still_region(f: StageFields) -> np.ndarray:
+def still_region(f: StageFields, forced_only: bool = False):
     """The bottom-axis cells [iz, ir] (STILL_R_FRACTION, STILL_Z_FRACTION); at least
-    the cell on the axis at the floor."""
+    the cell on the axis at the floor. forced_only: (region, True when no cell centre
+    lies within the fractions, so the region is that one forced cell: a grid coarser
+    than the zone)."""
     radius, height = bed_extent(f)
     region = (f.r[None, :] < STILL_R_FRACTION * radius) & (f.z[:, None] < STILL_Z_FRACTION * height)
+    forced = not region.any()
     region[0, 0] = True
-    return region
+    return (region, forced) if forced_only else region
 
 
 def still_zone_ratio(f: StageFields) -> Estimate:
@@ -338,6 +344,7 @@ def run_measures(folder: Path | None) -> dict:
     if fields is not None:
         out["directions"] = stage_directions(fields)
         out["still_zone"] = still_zone_ratio(fields)
+        out["still_forced"] = still_region(fields, forced_only=True)[1]
         out["circulation"] = circulation(fields)
         out["stage_cycles"] = len(fields.cycles)
     cycles = read_cycles(folder) if folder else None
@@ -349,14 +356,42 @@ def run_measures(folder: Path | None) -> dict:
 
 
 # --------------------------------------------------------------------------- checks
+#
+# The rules of trends.py (docs/trends.md "States"): a check passes only when its value
+# with its uncertainty shows the paper's statement; the opposite resolved is
+# trends.against(tier) ("contradicted" below the paper tier, "failed" at it); anything
+# within the uncertainty is "unresolved"; missing data "skipped". Results are built by
+# trends._result, so reasons start with what the data show and a value that is not a
+# number fails.
 
 
-def _three_way(score: float, k: float) -> str:
-    """passed beyond k SE on the expected side, failed beyond k SE on the other,
-    unresolved within."""
-    if not math.isfinite(score):
-        return "unresolved"
-    return "passed" if score > k else "failed" if score < -k else "unresolved"
+def interval(e: Estimate, level: float) -> dict:
+    """e.value +- k e.se, k the Student t quantile at `level` for e.n - 1 dof (n
+    realizations, or one run's n cycles); low/high NaN without an SE."""
+    k = fits.t_quantile(level, e.n - 1)
+    half = k * e.se if math.isfinite(k) and math.isfinite(e.se) else math.nan
+    return {"value": e.value, "se": e.se, "n": e.n, "dof": e.n - 1, "k": k, "source": e.source,
+            "low": e.value - half, "high": e.value + half}
+
+
+def _side(iv: dict, sign: float) -> str:
+    """"shown" when the interval lies entirely on the side of `sign` of 0, "opposite"
+    when entirely on the other side, else "within" (also without an interval)."""
+    low, high = iv["low"], iv["high"]
+    if not (math.isfinite(low) and math.isfinite(high)):
+        return "within"
+    if (sign > 0 and low > 0) or (sign < 0 and high < 0):
+        return "shown"
+    if (sign > 0 and high < 0) or (sign < 0 and low > 0):
+        return "opposite"
+    return "within"
+
+
+def _interval_text(name: str, iv: dict) -> str:
+    if not math.isfinite(iv["low"]):
+        return f"{name} {iv['value']:.3g} (no interval: n = {iv['n']} {iv['source']})"
+    return (f"{name} {iv['value']:.3g} [{iv['low']:.3g}, {iv['high']:.3g}] (+- {iv['k']:.3g} SE, "
+            f"{iv['dof']} dof over {iv['source']})")
 
 
 def _per_point(a) -> list[tuple[float, list[int], list[dict]]]:
@@ -380,36 +415,48 @@ def _direction_checks(a, points, trends) -> list:
     for check_id, stage, signs in (("stage_heating_direction", "heating", (1.0, -1.0)),
                                    ("stage_cooling_direction", "cooling", (-1.0, 1.0))):
         d = trends.CHECKS[check_id]
-        k = d.params(a.tier)["k"]
+        level = d.params(a.tier)["level"]
+        words = (("outward", "downward") if stage == "heating" else ("inward", "upward"))
         for value, runs, measures in points:
             check = d.check.format(point=a.point_label(value))
             with_fields = [m for m in measures if "directions" in m]
             if not with_fields:
                 out.append(trends._skip(a.case, d, check, _missing(measures), a.tier))
                 continue
-            ur = combine([m["directions"][f"ur_{stage}"] for m in with_fields])
-            uz = combine([m["directions"][f"uz_{stage}"] for m in with_fields])
-            scores = (ur.significance(signs[0]), uz.significance(signs[1]))
-            states = [_three_way(s, k) for s in scores]
-            status = "failed" if "failed" in states else "passed" if states == ["passed"] * 2 else "unresolved"
-            measured = min(scores)
-            want = ("outward (u_r > 0) and downward (u_z < 0)" if stage == "heating"
-                    else "inward (u_r < 0) and upward (u_z > 0)")
-            reason = d.reason_for(a.tier)
-            if status == "unresolved":
-                reason = f"not resolved: within {k:g} SE of zero. {reason}"
-            out.append(trends.CheckResult(
-                case=a.case, check=check, check_id=d.id, status=status, measured=measured,
-                expected=f"> {k:g} ({want})",
-                tolerance=f"{k:g} SE; u_r = {ur.text()}, u_z = {uz.text()} (SE over {ur.source}, n = {ur.n})",
-                reason=reason,
-                detail={"tier": a.tier, "k": k, "ur": ur.to_dict(), "uz": uz.to_dict(), "runs": runs}))
+            ur = interval(combine([m["directions"][f"ur_{stage}"] for m in with_fields]), level)
+            uz = interval(combine([m["directions"][f"uz_{stage}"] for m in with_fields]), level)
+            sides = (_side(ur, signs[0]), _side(uz, signs[1]))
+            texts = f"{_interval_text('u_r', ur)}; {_interval_text('u_z', uz)}"
+            if sides == ("shown", "shown"):
+                status, why = "passed", ""
+            elif "opposite" in sides:
+                status = trends.against(a.tier)
+                wrong = [f"{'u_r' if i == 0 else 'u_z'} resolved "
+                         f"{('inward' if signs[0] > 0 else 'outward') if i == 0 else ('upward' if signs[1] < 0 else 'downward')}"
+                         for i, side in enumerate(sides) if side == "opposite"]
+                why = (f"{' and '.join(wrong)} on {stage} ({level:.0%} interval beyond 0), the opposite "
+                       f"of the paper's {words[0]} and {words[1]}, over {len(with_fields)} "
+                       f"realization(s) on the {a.tier} tier's beds")
+            else:
+                status = "unresolved"
+                no_se = [n for n, iv in (("u_r", ur), ("u_z", uz)) if not math.isfinite(iv["low"])]
+                why = (f"{' and '.join(no_se)} without a scatter estimate (one run of one cycle)" if no_se
+                       else f"a {level:.0%} interval holds 0: {texts}")
+            measured = min(signs[0] * ur["value"], signs[1] * uz["value"])
+            out.append(trends._result(
+                a, d, check, status, measured,
+                f"> 0: {words[0]} ({'u_r > 0' if signs[0] > 0 else 'u_r < 0'}) and {words[1]} "
+                f"({'u_z < 0' if signs[1] < 0 else 'u_z > 0'}), resolved",
+                f"{level:.0%} intervals beyond 0 on the paper's side; {texts}; measured: the smaller "
+                "of the two along the paper's direction", why,
+                {"level": level, "ur": ur, "uz": uz, "sides": list(sides), "runs": runs}))
     return out
 
 
 def _still_zone_checks(a, points, trends) -> list:
     d = trends.CHECKS["still_zone"]
     p = d.params(a.tier)
+    f_max, level = p["f_max"], p["level"]
     out = []
     for value, runs, measures in points:
         check = d.check.format(point=a.point_label(value))
@@ -417,31 +464,42 @@ def _still_zone_checks(a, points, trends) -> list:
         if not with_fields:
             out.append(trends._skip(a.case, d, check, _missing(measures), a.tier))
             continue
-        ratio = combine([m["still_zone"] for m in with_fields])
-        se = ratio.se if math.isfinite(ratio.se) else 0.0
-        if not math.isfinite(ratio.value):
+        estimate = combine([m["still_zone"] for m in with_fields])
+        if not math.isfinite(estimate.value):
             out.append(trends._skip(a.case, d, check, "the bed's mean displacement is 0", a.tier))
             continue
-        if ratio.value + p["k"] * se < p["f_max"]:
-            status = "passed"
-        elif ratio.value - p["k"] * se >= p["f_max"]:
-            status = "failed"
+        iv = interval(estimate, level)
+        coarse = any(m.get("still_forced") for m in with_fields)
+        text = _interval_text("f", iv)
+        if not math.isfinite(iv["low"]):
+            status, why = "unresolved", "one run of one cycle gives no scatter estimate"
+        elif iv["high"] < f_max:
+            status, why = "passed", ""
+        elif iv["low"] >= f_max and coarse:
+            status = "unresolved"
+            why = (f"the {level:.0%} interval [{iv['low']:.3g}, {iv['high']:.3g}] lies above "
+                   f"{f_max:g}, but the bottom-axis region is the one floor-axis cell, coarser than "
+                   "the zone: its moving grains outside the zone raise f")
+        elif iv["low"] >= f_max:
+            status = trends.against(a.tier)
+            why = (f"the bottom-axis grains move as much as {iv['value']:.0%} of the bed's mean, "
+                   f"{level:.0%} interval [{iv['low']:.3g}, {iv['high']:.3g}] above {f_max:g}: no "
+                   f"still zone, over {len(with_fields)} realization(s) on the {a.tier} tier's beds")
         else:
             status = "unresolved"
-        reason = d.reason_for(a.tier)
-        if status == "passed" and not math.isfinite(ratio.se):
-            status, reason = "unresolved", f"not resolved: one cycle gives no standard error. {reason}"
-        out.append(trends.CheckResult(
-            case=a.case, check=check, check_id=d.id, status=status, measured=ratio.value,
-            expected=f"< {p['f_max']:g}", tolerance=f"{p['k']:g} SE = {p['k'] * se:.3g} "
-                                                   f"(SE over {ratio.source}, n = {ratio.n})",
-            reason=reason, detail={"tier": a.tier, "ratio": ratio.to_dict(), "runs": runs}))
+            why = f"the {level:.0%} interval [{iv['low']:.3g}, {iv['high']:.3g}] holds {f_max:g}"
+        out.append(trends._result(
+            a, d, check, status, estimate.value, f"< {f_max:g}, resolved",
+            f"{level:.0%} interval below {f_max:g}; {text}" + ("; region: the floor-axis cell only"
+                                                              if coarse else ""),
+            why, {"level": level, "f_max": f_max, "ratio": iv, "coarse_region": coarse, "runs": runs}))
     return out
 
 
 def _toroidal_checks(a, points, trends) -> list:
     d = trends.CHECKS["toroidal_cell"]
     p = d.params(a.tier)
+    s_min, s_fail, level = p["s_min"], p["s_fail"], p["level"]
     out = []
     for value, runs, measures in points:
         check = d.check.format(point=a.point_label(value))
@@ -456,39 +514,62 @@ def _toroidal_checks(a, points, trends) -> list:
             continue
         coherence = np.array([c.coherence for _, c in cells])
         dominant = math.copysign(1.0, float(np.sum([c.gamma for _, c in cells])) or 1.0)
-        shown = np.abs(coherence) >= p["s_min"]
-        opposed = bool(np.any(shown & (np.sign(coherence) == dominant)) and
-                       np.any(shown & (np.sign(coherence) == -dominant)))
         aligned = coherence * dominant
-        measured = float(aligned.min())
-        if opposed or float(np.abs(coherence).max()) < p["s_fail"]:
-            status = "failed"
-        elif bool(np.all(aligned >= p["s_min"])):
-            status = "passed"
+        senses = {c.sense for _, c in cells}
+        sense = cells[0][1].sense if len(senses) == 1 else "mixed"
+        per_run = ", ".join(f"{r}: {c.coherence:+.2f}" for r, c in cells)
+        detail = {"level": level, "runs": [r for r, _ in cells], "gamma": [c.gamma for _, c in cells],
+                  "coherence": coherence.tolist(), "interior_cells": [c.cells for _, c in cells],
+                  "gamma_per_cycle": [c.per_cycle.to_dict() for _, c in cells], "sense": sense}
+        if len(cells) >= 2:
+            along = fits.mean_interval(aligned, level)
+            size = fits.mean_interval(np.abs(coherence), level)
+            measured = along["mean"]
+            detail.update({"aligned": along, "magnitude": size})
+            tolerance = (f"{level:.0%} intervals over {len(cells)} realizations: mean a "
+                         f"[{along['low']:.2f}, {along['high']:.2f}] >= {s_min:g} passes, mean |s| "
+                         f"[{size['low']:.2f}, {size['high']:.2f}] < {s_fail:g} is no cell; sense: "
+                         f"{sense}; coherence per run {per_run}")
+            if along["low"] >= s_min:
+                status, why = "passed", ""
+            elif size["high"] < s_fail:
+                status = trends.against(a.tier)
+                why = (f"no dominant cell: the mean |s| {size['mean']:.2f} has its {level:.0%} "
+                       f"interval [{size['low']:.2f}, {size['high']:.2f}] below {s_fail:g}, on "
+                       f"{len(cells)} realizations on the {a.tier} tier's beds")
+            else:
+                status = "unresolved"
+                why = (f"the {level:.0%} interval of the aligned coherence [{along['low']:.2f}, "
+                       f"{along['high']:.2f}] reaches below {s_min:g} and that of |s| "
+                       f"[{size['low']:.2f}, {size['high']:.2f}] above {s_fail:g}"
+                       + ("; the realizations turn opposite ways" if sense == "mixed" else ""))
         else:
-            status = "unresolved"
-        reason = d.reason_for(a.tier)
-        if status == "unresolved":
-            reason = f"not resolved: a realization's coherence is below {p['s_min']:g}. {reason}"
-        sense = cells[0][1].sense if len({c.sense for _, c in cells}) == 1 else "mixed"
-        out.append(trends.CheckResult(
-            case=a.case, check=check, check_id=d.id, status=status, measured=measured,
-            expected=f">= {p['s_min']:g} in every realization, one sense",
-            tolerance=f"s_min {p['s_min']:g}, fails below {p['s_fail']:g} or with opposite senses; "
-                      f"sense: {sense}; coherence per run "
-                      + ", ".join(f"{r}: {c.coherence:+.2f}" for r, c in cells),
-            reason=reason,
-            detail={"tier": a.tier, "runs": [r for r, _ in cells], "gamma": [c.gamma for _, c in cells],
-                    "coherence": coherence.tolist(), "interior_cells": [c.cells for _, c in cells],
-                    "gamma_per_cycle": [c.per_cycle.to_dict() for _, c in cells], "sense": sense}))
+            run, circ = cells[0]
+            turn = interval(circ.per_cycle, level)
+            resolved = _side(turn, dominant) == "shown"
+            measured = float(aligned[0])
+            detail["per_cycle_interval"] = turn
+            tolerance = (f"one realization: s {coherence[0]:+.2f} >= {s_min:g} with its sense resolved "
+                         f"over the cycles; {_interval_text('circulation per cycle', turn)}; sense: {sense}")
+            if measured >= s_min and resolved:
+                status, why = "passed", ""
+            else:
+                status = "unresolved"
+                why = ("one realization gives no scatter estimate of the coherence"
+                       + (f" and its s {coherence[0]:+.2f} is below {s_min:g}" if measured < s_min else
+                          "; the sense of its circulation is not resolved over its cycles"
+                          if not resolved else ""))
+        out.append(trends._result(a, d, check, status, measured,
+                                  f">= {s_min:g} (one sense), resolved", tolerance, why, detail))
     return out
 
 
 def _trend_check(a, points, trends, check_id: str, key: str, direction: str) -> list:
-    """A slope of a per-run number against the swept parameter over all runs:
-    "decrease"/"increase": passed beyond k SE on the expected side, failed beyond k SE on
-    the other, unresolved within; "flat": |slope| <= k SE, failed beyond it, unresolved
-    when k SE x range exceeds FLAT_RESOLUTION of the mean."""
+    """A slope of a per-run number against the swept parameter over all runs, with the
+    rules of trends._slope_check: "decrease"/"increase": passed beyond k SE on the paper's
+    side, the other side resolved is against(tier), else not resolved; "flat": |slope|
+    > k SE is against(tier), within it passed only when k SE x range is at most
+    FLAT_RESOLUTION of the mean, else not resolved."""
     d = trends.CHECKS[check_id]
     p = d.params(a.tier)
     check = d.check.format(x=a.x_label)
@@ -515,27 +596,39 @@ def _trend_check(a, points, trends, check_id: str, key: str, direction: str) -> 
     slope, se, k = fit.slope, fit.slope_se, p["k"]
     if np.ptp(ys) <= 1e-12 * abs(float(np.mean(ys))):  # all runs alike: the fit's slope is round-off
         slope, se = 0.0, 0.0
-    reason = d.reason_for(a.tier)
+    in_se = slope / se if se > 0 else (math.copysign(math.inf, slope) if slope else 0.0)
+    detail = {"k": k, "slope": slope, "se": se, "slope_in_se": in_se, "n": len(xs),
+              "points": len(set(xs)), "x": xs, "y": ys}
+    fit_text = f"slope {slope:.3g} +- {se:.2g} ({in_se:.2g} SE, {len(xs)} runs at {len(set(xs))} values)"
     if direction == "flat":
-        status = "passed" if abs(slope) <= k * se else "failed"
+        expected = "0"
+        tolerance = f"abs {k:g} SE = {k * se:.4g} (SE {se:.4g}; {len(xs)} runs at {len(set(xs))} values)"
         unseen = k * se * (max(xs) - min(xs))
         mean = float(np.mean(ys))
-        if status == "passed" and not unseen <= trends.FLAT_RESOLUTION * abs(mean):
+        detail["unseen"] = unseen
+        if abs(slope) > k * se:
+            status = trends.against(a.tier)
+            why = f"the {fit_text} resolves a dependence on {a.x_label}, on the {a.tier} tier's beds"
+        elif not unseen <= trends.FLAT_RESOLUTION * abs(mean):
             status = "unresolved"
-            reason = (f"not resolved: a change of {unseen:.3g} across the range would go unseen "
-                      f"(flat needs k SE x range <= {trends.FLAT_RESOLUTION:g} x mean {mean:.3g}). {reason}")
-        expected = "0"
+            why = (f"a change of {unseen:.3g} across the range would go unseen (flat needs k SE x "
+                   f"range <= {trends.FLAT_RESOLUTION:g} x mean {mean:.3g})")
+        else:
+            status, why = "passed", ""
     else:
         sign = -1.0 if direction == "decrease" else 1.0
-        score = sign * slope / se if se > 0 else (math.copysign(math.inf, sign * slope) if slope else math.nan)
-        status = _three_way(score, k)
-        if status == "unresolved":
-            reason = f"not resolved: the slope is within {k:g} SE of 0. {reason}"
         expected = "< 0" if direction == "decrease" else "> 0"
-    return [trends.CheckResult(
-        case=a.case, check=check, check_id=d.id, status=status, measured=float(slope), expected=expected,
-        tolerance=f"{k:g} SE (SE {se:.4g}; {len(xs)} runs at {len(set(xs))} values)", reason=reason,
-        detail={"tier": a.tier, "slope": slope, "se": se, "n": len(xs), "x": xs, "y": ys})]
+        tolerance = f"{k:g} SE beyond 0 (SE {se:.4g}; {len(xs)} runs at {len(set(xs))} values)"
+        if sign * slope - k * se > 0:
+            status, why = "passed", ""
+        elif sign * slope + k * se < 0:
+            status = trends.against(a.tier)
+            why = (f"the {fit_text} is resolved {'above' if sign < 0 else 'below'} 0, the opposite "
+                   f"of the paper, on the {a.tier} tier's beds")
+        else:
+            status = "unresolved"
+            why = f"the {fit_text} is within {k:g} SE of 0"
+    return [trends._result(a, d, check, status, slope, expected, tolerance, why, detail)]
 
 
 def checks(a) -> list:
