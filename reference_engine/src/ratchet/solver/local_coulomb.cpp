@@ -6,6 +6,14 @@ namespace ratchet {
 
 namespace {
 
+// Tolerances of the sliding branch (dimensionless: angles in rad, residuals relative to |u_t|).
+constexpr int kNewtonCap = 30;              // Newton steps; 3-6 suffice from the stick direction
+constexpr double kNewtonMaxStep = 0.5;      // |tau| per step: atan(0.5) = 27 degrees keeps Newton in its basin
+constexpr double kNewtonStepTol = 1e-14;    // a step this small is round-off
+constexpr double kNewtonSmallStep = 1e-6;   // below it, a step no smaller than the last one is the rounding floor
+constexpr double kSlideResidualFloor = 1e-15;  // |d x u_t| / |u_t| at round-off
+constexpr double kAdmissibleResidual = 1e-9;   // u_t parallel to d within 1e-9 rad: W's round-off with a wide margin
+
 // Sliding solution for a given friction direction d (unit, in the tangent plane):
 // lambda_t = mu lambda_n d and u_n = 0 fix lambda_n; returns the tangential velocity.
 struct SlideTrial {
@@ -34,15 +42,70 @@ double slide_residual(const SlideTrial& s, const Eigen::Vector2d& d) {
   return (d.x() * s.u_t.y() - d.y() * s.u_t.x()) / norm;
 }
 
+// Newton on the angle of d from the start direction, on g(d) = d x u_t(d) (zero where
+// u_t is parallel to d), with the derivative along dp = d rotated by 90 degrees in closed
+// form: lambda_n = -w_n / (W_nn + mu W_nt.d), u_t = w_t + W_tn lambda_n + mu W_tt lambda_n d.
+// The step tau = -g / g' rotates d to (d + tau dp) / |d + tau dp|, i.e. by atan(tau)
+// instead of tau: the same first-order step, so convergence stays quadratic, and no
+// sin/cos is evaluated (they took a third of the local solve). Converges in a few steps
+// where the fixed point is not contractive (u_t small against the coupling mu W_tt near
+// the stick boundary). True, with the direction in da, when it ends at an admissible
+// sliding direction (lambda_n >= 0, u_t against d).
+bool newton_slide(const Mat3& W, const Vec3& w, double mu, const Eigen::Vector2d& start, Eigen::Vector2d& da) {
+  const Eigen::Vector2d W_nt(W(0, 1), W(0, 2)), W_tn(W(1, 0), W(2, 0));
+  Eigen::Matrix2d W_tt;
+  W_tt << W(1, 1), W(1, 2), W(2, 1), W(2, 2);
+  da = start;
+  double last_step = HUGE_VAL;
+  for (int it = 0; it < kNewtonCap; ++it) {
+    const Eigen::Vector2d dp(-da.y(), da.x());
+    const double denom = W(0, 0) + mu * W_nt.dot(da);
+    if (!(denom > 0.0)) break;
+    const double ln = -w[0] / denom;
+    const double ln_p = w[0] * mu * W_nt.dot(dp) / (denom * denom);
+    const Eigen::Vector2d ut = Eigen::Vector2d(w[1], w[2]) + W_tn * ln + W_tt * (mu * ln * da);
+    const Eigen::Vector2d ut_p = W_tn * ln_p + W_tt * (mu * (ln_p * da + ln * dp));
+    const double g = da.x() * ut.y() - da.y() * ut.x();
+    const double un = ut.norm();
+    if (!(un > 0.0) || std::abs(g) < kSlideResidualFloor * un) break;
+    const double g_p = dp.x() * ut.y() + da.x() * ut_p.y() - dp.y() * ut.x() - da.y() * ut_p.x();
+    if (!(std::abs(g_p) > 1e-300)) break;
+    double tau = -g / g_p;
+    if (std::abs(tau) > kNewtonMaxStep) tau = tau > 0.0 ? kNewtonMaxStep : -kNewtonMaxStep;  // stay in the basin
+    da = (da + tau * dp).normalized();
+    // Converged to round-off: a step below kNewtonStepTol rad, or a small step no smaller
+    // than the one before (quadratic convergence has reached the rounding floor of g).
+    // The test |g| < 1e-15 |u_t| alone is out of reach near the stick boundary, where u_t
+    // is small against the terms it is summed from: 80 % of the slides of a settled bed
+    // ran to the 30-step cap, a third of the solve phase.
+    const double step = std::abs(tau);
+    if (step < kNewtonStepTol || (step < kNewtonSmallStep && step >= last_step)) break;
+    last_step = step;
+  }
+  const SlideTrial t = slide_trial(W, w, mu, da);
+  return t.valid && t.lambda_n >= 0.0 && t.u_t.dot(da) < 0.0 && t.u_t.norm() > 0.0 &&
+         std::abs(slide_residual(t, da)) < kAdmissibleResidual;
+}
+
 }  // namespace
 
 LocalSolution solve_local_coulomb(const Mat3& W, const Vec3& w, double mu) {
   return solve_local_coulomb(W, W.inverse(), w, mu);
 }
 
-LocalSolution detail::solve_local_slide(const Mat3& W, const Vec3& w, double mu, const Vec3& stick, double lt) {
+LocalSolution detail::solve_local_slide(const Mat3& W, const Vec3& w, double mu, const Vec3& stick, double lt,
+                                        const Eigen::Vector2d* hint) {
   LocalSolution sol;
   sol.status = LocalStatus::Slide;
+  Eigen::Vector2d da;
+  // From the direction the contact slid in at its last solve: in a sweep that is nearly
+  // converged Newton lands on the same admissible root in one or two steps. Any other
+  // outcome goes the cold way below, unchanged.
+  if (hint != nullptr && newton_slide(W, w, mu, *hint, da)) {
+    const SlideTrial f = slide_trial(W, w, mu, da);
+    sol.lambda = Vec3(f.lambda_n, mu * f.lambda_n * da.x(), mu * f.lambda_n * da.y());
+    return sol;
+  }
   // Slide: find the direction d with u_t(d) = -k d, k > 0. Fixed point
   // d <- -u_t(d)/|u_t(d)| from the stick trial direction; it converges in one step when
   // W_tt is isotropic and W_nt = 0 (a sphere on a plane). Otherwise it is slow to reach
@@ -66,66 +129,21 @@ LocalSolution detail::solve_local_slide(const Mat3& W, const Vec3& w, double mu,
     }
     d = d_next;
   }
-  // Newton on the angle of d from the stick trial direction, on g(d) = d x u_t(d) (zero
-  // where u_t is parallel to d), with the derivative along dp = d rotated by 90 degrees
-  // in closed form: lambda_n = -w_n / (W_nn + mu W_nt.d),
-  // u_t = w_t + W_tn lambda_n + mu W_tt lambda_n d. The step tau = -g / g' rotates d to
-  // (d + tau dp) / |d + tau dp|, i.e. by atan(tau) instead of tau: the same first-order
-  // step, so convergence stays quadratic, and no sin/cos is evaluated (they took a third
-  // of the local solve). Converges in a few steps where the fixed point is not
-  // contractive (u_t small against the coupling mu W_tt near the stick boundary).
-  auto dir = [](double a) { return Eigen::Vector2d(std::cos(a), std::sin(a)); };
-  auto residual_at = [&](double a) {
-    const Eigen::Vector2d da = dir(a);
-    return slide_residual(slide_trial(W, w, mu, da), da);
-  };
-  auto admissible = [&](const Eigen::Vector2d& da) {
-    const SlideTrial t = slide_trial(W, w, mu, da);
-    return t.valid && t.lambda_n >= 0.0 && t.u_t.dot(da) < 0.0 && t.u_t.norm() > 0.0 &&
-           std::abs(slide_residual(t, da)) < 1e-9;
-  };
-  {
-    const Eigen::Vector2d W_nt(W(0, 1), W(0, 2)), W_tn(W(1, 0), W(2, 0));
-    Eigen::Matrix2d W_tt;
-    W_tt << W(1, 1), W(1, 2), W(2, 1), W(2, 2);
-    Eigen::Vector2d da = d0;
-    double last_step = HUGE_VAL;
-    for (int it = 0; it < 30; ++it) {
-      const Eigen::Vector2d dp(-da.y(), da.x());
-      const double denom = W(0, 0) + mu * W_nt.dot(da);
-      if (!(denom > 0.0)) break;
-      const double ln = -w[0] / denom;
-      const double ln_p = w[0] * mu * W_nt.dot(dp) / (denom * denom);
-      const Eigen::Vector2d ut = Eigen::Vector2d(w[1], w[2]) + W_tn * ln + W_tt * (mu * ln * da);
-      const Eigen::Vector2d ut_p = W_tn * ln_p + W_tt * (mu * (ln_p * da + ln * dp));
-      const double g = da.x() * ut.y() - da.y() * ut.x();
-      const double un = ut.norm();
-      if (!(un > 0.0) || std::abs(g) < 1e-15 * un) break;
-      const double g_p = dp.x() * ut.y() + da.x() * ut_p.y() - dp.y() * ut.x() - da.y() * ut_p.x();
-      if (!(std::abs(g_p) > 1e-300)) break;
-      double tau = -g / g_p;
-      if (std::abs(tau) > 0.5) tau = tau > 0.0 ? 0.5 : -0.5;  // stay in the basin (27 degrees)
-      da = (da + tau * dp).normalized();
-      // Converged to round-off: a step below 1e-14 rad, or a small step no smaller than
-      // the one before (quadratic convergence has reached the rounding floor of g). The
-      // test |g| < 1e-15 |u_t| alone is out of reach near the stick boundary, where u_t
-      // is small against the terms it is summed from: 80 % of the slides of a settled
-      // bed ran to the 30-step cap, a third of the solve phase.
-      const double step = std::abs(tau);
-      if (step < 1e-14 || (step < 1e-6 && step >= last_step)) break;
-      last_step = step;
-    }
-    if (admissible(da)) {
-      const SlideTrial f = slide_trial(W, w, mu, da);
-      sol.lambda = Vec3(f.lambda_n, mu * f.lambda_n * da.x(), mu * f.lambda_n * da.y());
-      return sol;
-    }
+  if (newton_slide(W, w, mu, d0, da)) {
+    const SlideTrial f = slide_trial(W, w, mu, da);
+    sol.lambda = Vec3(f.lambda_n, mu * f.lambda_n * da.x(), mu * f.lambda_n * da.y());
+    return sol;
   }
   // Fallback for strongly coupled W: scan the angle of d for sign changes of the
   // residual, bisect each to machine precision, and keep the admissible roots
   // (lambda_n >= 0, u_t . d < 0). Several may exist when mu is large (the local problem
   // is not unique then); take the one nearest the stick trial direction, so the choice
   // is deterministic and continuous with the stick branch.
+  auto dir = [](double a) { return Eigen::Vector2d(std::cos(a), std::sin(a)); };
+  auto residual_at = [&](double a) {
+    const Eigen::Vector2d da = dir(a);
+    return slide_residual(slide_trial(W, w, mu, da), da);
+  };
   constexpr int kSamples = 256;
   bool found = false;
   double best_angle = 0.0, best_score = -HUGE_VAL;
@@ -144,7 +162,7 @@ LocalSolution detail::solve_local_slide(const Mat3& W, const Vec3& w, double mu,
       const SlideTrial t = slide_trial(W, w, mu, dr);
       const double un = t.u_t.norm();
       const bool admissible = t.valid && t.lambda_n >= 0.0 && t.u_t.dot(dr) < 0.0 &&
-                              std::abs(slide_residual(t, dr)) < 1e-9 && un > 0.0;
+                              std::abs(slide_residual(t, dr)) < kAdmissibleResidual && un > 0.0;
       if (admissible && dr.dot(d0) > best_score) { best_score = dr.dot(d0); best_angle = lo; found = true; }
     }
     a0 = a1;

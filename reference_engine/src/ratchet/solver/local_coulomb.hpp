@@ -32,7 +32,9 @@ LocalSolution solve_local_coulomb(const Mat3& W, const Vec3& w, double mu);
 namespace detail {
 // The sliding branch of solve_local_coulomb below, not an entry point: w[0] < 0, mu > 0,
 // and the stick impulse (stick = -W^-1 w, lt its tangential norm) lies outside the cone.
-LocalSolution solve_local_slide(const Mat3& W, const Vec3& w, double mu, const Vec3& stick, double lt);
+// hint: a unit direction to start Newton from (the contact's last slide), or null.
+LocalSolution solve_local_slide(const Mat3& W, const Vec3& w, double mu, const Vec3& stick, double lt,
+                                const Eigen::Vector2d* hint = nullptr);
 }  // namespace detail
 
 // The same with W^-1 given (the sweep computes it once per contact and step, not once
@@ -40,7 +42,8 @@ LocalSolution solve_local_slide(const Mat3& W, const Vec3& w, double mu, const V
 // of a settled bed and a few products each, and the call and its returned struct cost
 // about 20 of their 150 instructions (callgrind, docs/performance.md); only the slide
 // is out of line.
-inline LocalSolution solve_local_coulomb(const Mat3& W, const Mat3& W_inv, const Vec3& w, double mu) {
+inline LocalSolution solve_local_coulomb(const Mat3& W, const Mat3& W_inv, const Vec3& w, double mu,
+                                         const Eigen::Vector2d* slide_hint = nullptr) {
   LocalSolution sol;
   if (w[0] >= 0.0) return sol;  // the gap stays open with no impulse
   if (mu == 0.0) {
@@ -56,7 +59,30 @@ inline LocalSolution solve_local_coulomb(const Mat3& W, const Mat3& W_inv, const
     sol.status = LocalStatus::Stick;
     return sol;
   }
-  return detail::solve_local_slide(W, w, mu, stick, lt);
+  return detail::solve_local_slide(W, w, mu, stick, lt, slide_hint);
+}
+
+// The nearest point of the cone lambda_n >= 0, |lambda_t| <= mu lambda_n along lambda_t
+// (the normal clipped at 0, the tangential part scaled down).
+inline Vec3 project_onto_cone(Vec3 l, double mu) {
+  l[0] = l[0] > 0.0 ? l[0] : 0.0;
+  const double lt = std::sqrt(l[1] * l[1] + l[2] * l[2]), cap = mu * l[0];
+  if (lt > cap) {
+    const double f = lt > 0.0 ? cap / lt : 0.0;
+    l[1] *= f;
+    l[2] *= f;
+  }
+  return l;
+}
+
+// The direction a contact with impulse lambda slides in, if it lies on its cone
+// (|lambda_t| = mu lambda_n to round-off): the Newton start for its next solve.
+inline bool slide_direction(const Vec3& lambda, double mu, Eigen::Vector2d& d) {
+  const double lt = std::sqrt(lambda[1] * lambda[1] + lambda[2] * lambda[2]);
+  constexpr double kOnCone = 1.0 - 1e-9;  // |lambda_t| / (mu lambda_n): on the surface to round-off
+  if (!(lambda[0] > 0.0) || !(lt > 0.0) || lt < kOnCone * mu * lambda[0]) return false;
+  d = Eigen::Vector2d(lambda[1] / lt, lambda[2] / lt);
+  return true;
 }
 
 }  // namespace ratchet
