@@ -1,5 +1,7 @@
 #include "ratchet/solver/anderson.hpp"
 
+#include "ratchet/solver/local_coulomb.hpp"
+
 #include <algorithm>
 #include <cmath>
 
@@ -13,7 +15,30 @@ double* AndersonMixer::record_buffer(std::size_t rows, bool after) {
   return b.data();
 }
 
-Vec3 AndersonMixer::extrapolated(std::size_t k, double mu) const {
+void AndersonMixer::record_velocities(const std::vector<Vec3>& v, const std::vector<Vec3>& w) {
+  const std::size_t n = v.size();
+  vel_.resize(6 * n);
+#pragma omp parallel for schedule(static) if (static_cast<int>(n) > parallel_min_rows_ / 4)
+  for (std::size_t i = 0; i < n; ++i)
+    for (int j = 0; j < 3; ++j) {
+      vel_[6 * i + static_cast<std::size_t>(j)] = v[i][j];
+      vel_[6 * i + 3 + static_cast<std::size_t>(j)] = w[i][j];
+    }
+}
+
+void AndersonMixer::extrapolated_velocities(std::vector<Vec3>& v, std::vector<Vec3>& w) const {
+  const std::size_t n = v.size();
+#pragma omp parallel for schedule(static) if (static_cast<int>(n) > parallel_min_rows_ / 4)
+  for (std::size_t i = 0; i < n; ++i)
+    for (int j = 0; j < 6; ++j) {
+      const std::size_t k = 6 * i + static_cast<std::size_t>(j);
+      double x = vel_prev_[k];  // the velocities of G(x_k), swapped in by plan()
+      for (int a = 0; a < count_; ++a) x -= gamma_[a] * vcols_[a][k];
+      if (j < 3) v[i][j] = x; else w[i][j - 3] = x;
+    }
+}
+
+Vec3 AndersonMixer::unprojected(std::size_t k) const {
   Vec3 l;
   for (int j = 0; j < 3; ++j) {
     const std::size_t i = 3 * k + static_cast<std::size_t>(j);
@@ -21,16 +46,10 @@ Vec3 AndersonMixer::extrapolated(std::size_t k, double mu) const {
     for (int a = 0; a < count_; ++a) v -= gamma_[a] * gcols_[a][i];
     l[j] = v;
   }
-  // Back onto the cone: lambda_n >= 0, |lambda_t| <= mu lambda_n.
-  l[0] = std::max(0.0, l[0]);
-  const double lt = std::sqrt(l[1] * l[1] + l[2] * l[2]), cap = mu * l[0];
-  if (lt > cap) {
-    const double f = lt > 0.0 ? cap / lt : 0.0;
-    l[1] *= f;
-    l[2] *= f;
-  }
   return l;
 }
+
+Vec3 AndersonMixer::extrapolated(std::size_t k, double mu) const { return project_onto_cone(unprojected(k), mu); }
 
 bool AndersonMixer::plan(const std::vector<SolverRow>& rows) {
   const std::size_t n = 3 * rows.size();
@@ -39,15 +58,29 @@ bool AndersonMixer::plan(const std::vector<SolverRow>& rows) {
     for (std::size_t k = 0; k < rows.size(); ++k) weight_[k] = std::sqrt(rows[k].W(0, 0));
   }
   f_.resize(n);
-  double fnorm = 0.0;
-  for (std::size_t k = 0; k < rows.size(); ++k) {
-    const double wk = weight_[k];
-    for (int j = 0; j < 3; ++j) {
-      const std::size_t i = 3 * k + static_cast<std::size_t>(j);
-      f_[i] = wk * (g_[i] - x_[i]);
-      fnorm += f_[i] * f_[i];
+  // Sums over the unknowns in fixed blocks of kBlock rows, added in block order: the same
+  // bits for any number of threads.
+  const std::size_t rows_n = rows.size();
+  const int nblocks = static_cast<int>((rows_n + kBlock - 1) / kBlock);
+  partial_.assign(static_cast<std::size_t>(nblocks) * (kMaxDepth + 2), 0.0);
+  double* part = partial_.data();
+  const bool parallel = static_cast<int>(rows_n) > parallel_min_rows_;
+#pragma omp parallel for schedule(static) if (parallel)
+  for (int blk = 0; blk < nblocks; ++blk) {
+    double sum = 0.0;
+    const std::size_t k1 = std::min(rows_n, (static_cast<std::size_t>(blk) + 1) * kBlock);
+    for (std::size_t k = static_cast<std::size_t>(blk) * kBlock; k < k1; ++k) {
+      const double wk = weight_[k];
+      for (int j = 0; j < 3; ++j) {
+        const std::size_t i = 3 * k + static_cast<std::size_t>(j);
+        f_[i] = wk * (g_[i] - x_[i]);
+        sum += f_[i] * f_[i];
+      }
     }
+    part[static_cast<std::size_t>(blk) * (kMaxDepth + 2)] = sum;
   }
+  double fnorm = 0.0;
+  for (int blk = 0; blk < nblocks; ++blk) fnorm += part[static_cast<std::size_t>(blk) * (kMaxDepth + 2)];
   fnorm = std::sqrt(fnorm);
   const bool restart = have_prev_ && fnorm > fnorm_prev_;
   if (restart) { count_ = 0; head_ = 0; ++restarts_; }
@@ -55,6 +88,7 @@ bool AndersonMixer::plan(const std::vector<SolverRow>& rows) {
     if (dF_.size() < static_cast<std::size_t>(depth_)) {
       dF_.resize(static_cast<std::size_t>(depth_));
       dG_.resize(dF_.size());
+      dV_.resize(dF_.size());
       gram_ = Eigen::MatrixXd::Zero(depth_, depth_);
       rhs_ = Eigen::VectorXd::Zero(depth_);
     }
@@ -71,22 +105,49 @@ bool AndersonMixer::plan(const std::vector<SolverRow>& rows) {
     // Gram row without another pass: 2m + 1 products per unknown in all.
     const double* cols[kMaxDepth];
     for (int b = 0; b < count_; ++b) cols[b] = dF_[static_cast<std::size_t>(b)].data();
-    double dots[kMaxDepth] = {};
-    double with_prev = 0.0;
     double* cfp = cf.data();
     double* cgp = cg.data();
-    for (std::size_t i = 0; i < n; ++i) {
-      const double c = f_[i] - f_prev_[i];
-      cfp[i] = c;
-      cgp[i] = g_[i] - g_prev_[i];
-      with_prev += c * f_prev_[i];
-      for (int b = 0; b < count_; ++b) dots[b] += c * cols[b][i];  // cols[h] is cfp: c * c
+    const int m = count_;
+    const std::size_t stride = kMaxDepth + 2;
+#pragma omp parallel for schedule(static) if (parallel)
+    for (int blk = 0; blk < nblocks; ++blk) {
+      double dots[kMaxDepth] = {};
+      double with_prev = 0.0;
+      const std::size_t i1 = 3 * std::min(rows_n, (static_cast<std::size_t>(blk) + 1) * kBlock);
+      for (std::size_t i = 3 * static_cast<std::size_t>(blk) * kBlock; i < i1; ++i) {
+        const double c = f_[i] - f_prev_[i];
+        cfp[i] = c;
+        cgp[i] = g_[i] - g_prev_[i];
+        with_prev += c * f_prev_[i];
+        for (int b = 0; b < m; ++b) dots[b] += c * cols[b][i];  // cols[h] is cfp: c * c
+      }
+      double* out = part + static_cast<std::size_t>(blk) * stride;
+      out[0] = with_prev;
+      for (int b = 0; b < m; ++b) out[1 + b] = dots[b];
+    }
+    double dots[kMaxDepth] = {};
+    double with_prev = 0.0;
+    for (int blk = 0; blk < nblocks; ++blk) {
+      const double* in = part + static_cast<std::size_t>(blk) * stride;
+      with_prev += in[0];
+      for (int b = 0; b < m; ++b) dots[b] += in[1 + b];
+    }
+    if (!vel_.empty() && vel_prev_.size() == vel_.size()) {
+      std::vector<double>& cv = dV_[static_cast<std::size_t>(h)];
+      cv.resize(vel_.size());
+      const double* vp = vel_.data();
+      const double* vq = vel_prev_.data();
+      double* cvp = cv.data();
+      const int nv = static_cast<int>(vel_.size());
+#pragma omp parallel for schedule(static) if (parallel)
+      for (int i = 0; i < nv; ++i) cvp[i] = vp[i] - vq[i];
     }
     for (int b = 0; b < count_; ++b) { gram_(h, b) = dots[b]; gram_(b, h) = dots[b]; }
     for (int b = 0; b < count_; ++b) rhs_(b) = b == h ? with_prev + dots[h] : rhs_(b) + dots[b];
   }
   f_prev_.swap(f_);
   g_prev_.swap(g_);
+  vel_prev_.swap(vel_);
   fnorm_prev_ = fnorm;
   have_prev_ = true;
   if (count_ == 0) return false;
@@ -103,6 +164,7 @@ bool AndersonMixer::plan(const std::vector<SolverRow>& rows) {
   for (int a = 0; a < m; ++a) {
     gamma_[a] = gamma(a);
     gcols_[a] = dG_[static_cast<std::size_t>(a)].data();
+    vcols_[a] = dV_[static_cast<std::size_t>(a)].data();
   }
   return true;
 }

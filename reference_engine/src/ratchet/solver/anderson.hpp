@@ -21,29 +21,47 @@ namespace ratchet {
 class AndersonMixer {
  public:
   static constexpr int kMaxDepth = 50;  // solver.anderson_depth's upper bound
-  explicit AndersonMixer(int depth) : depth_(depth < kMaxDepth ? depth : kMaxDepth) {}
+  // Reductions over the rows run in fixed blocks of this many rows (thread-independent
+  // sums); the passes run in parallel above these sizes, below which a parallel region
+  // costs more than it saves.
+  static constexpr std::size_t kBlock = 512;
+  explicit AndersonMixer(int depth, int parallel_min_rows = kParallelMinRows)
+      : depth_(depth < kMaxDepth ? depth : kMaxDepth), parallel_min_rows_(parallel_min_rows) {}
 
   // The sweep writes x_k (before) and G(x_k) (after) row by row into these contiguous
   // buffers (3 per row) while each row is in cache.
   double* record_buffer(std::size_t rows, bool after);
 
+  // The body velocities after the sweep (v then w, 6 per body), recorded before plan():
+  // they are linear in the impulses, v = v_free + M^-1 H lambda, so the same mix of
+  // their history gives the velocities of the unprojected extrapolated impulses
+  // without a pass over the rows.
+  void record_velocities(const std::vector<Vec3>& v, const std::vector<Vec3>& w);
+
   // After the sweep: updates the history and returns whether to extrapolate;
-  // extrapolated(k, mu) is then row k's new impulse, projected onto its cone (the caller
-  // writes it and rebuilds the body velocities in the same pass).
+  // extrapolated(k, mu) is then row k's new impulse, projected onto its cone, and
+  // unprojected(k) the same before the projection.
   bool plan(const std::vector<SolverRow>& rows);
   Vec3 extrapolated(std::size_t k, double mu) const;
+  Vec3 unprojected(std::size_t k) const;
+  // The body velocities of the unprojected impulses (needs record_velocities each sweep).
+  void extrapolated_velocities(std::vector<Vec3>& v, std::vector<Vec3>& w) const;
 
   int restarts() const { return restarts_; }
 
  private:
   int depth_;
+  int parallel_min_rows_;  // the passes run in parallel above this many rows (bodies: a quarter)
   std::vector<double> x_, f_prev_, g_prev_, f_, g_;
-  std::vector<std::vector<double>> dF_, dG_;  // ring buffers of columns
+  std::vector<double> vel_, vel_prev_;        // body velocities after the sweep (6 per body)
+  std::vector<std::vector<double>> dF_, dG_, dV_;  // ring buffers of columns
   Eigen::MatrixXd gram_;                      // dF^T dF of the ring's columns
   Eigen::VectorXd rhs_;                       // dF^T f_k
   std::vector<double> weight_;                // sqrt(W_nn) per row
+  std::vector<double> partial_;               // per block: the sums of a pass
   double gamma_[kMaxDepth] = {};              // the last plan's coefficients
   const double* gcols_[kMaxDepth] = {};       // and the dG columns they weigh
+  const double* vcols_[kMaxDepth] = {};       // and the dV columns
   int count_ = 0, head_ = 0;
   bool have_prev_ = false;
   double fnorm_prev_ = 0.0;
