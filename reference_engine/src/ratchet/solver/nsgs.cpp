@@ -10,71 +10,132 @@ namespace ratchet {
 
 namespace {
 
+constexpr int kStallSweeps = 100;  // sweeps without halving the residual: 5x a normal step's total
+constexpr std::int8_t kSpringLaw = 1, kCapLaw = 2;  // SolverRow::law_taken, law_kept
+
 // A compliant row whose overlap asks for a separation speed above the cap: the rigid
 // law with the capped speed (u_n >= cap) is the second law, and the row takes whichever
 // solution pushes less. Under load the spring's pushes less and is kept bit for bit;
 // an unloaded overlap leaves at the cap (docs/method.md s. 5, "Energy-safe relaxation").
-Vec3 weaker_push(const SolverRow& c, const Vec3& w, const Vec3& spring) {
+// Once frozen (law_kept), the row keeps the law it last took: the choice between the two
+// is not monotone, and a solve whose rows flip between them can cycle without end.
+Vec3 weaker_push(SolverRow& c, const Vec3& w, const Vec3& spring) {
+  if (c.law_kept == kSpringLaw) return spring;
   Vec3 w_cap = w;
   w_cap[0] += c.bias_capped - c.bias;
   const Vec3 capped = solve_local_coulomb(c.W, c.W.inverse(), w_cap, c.mu).lambda;
-  return capped[0] < spring[0] ? capped : spring;
+  const bool cap = c.law_kept == kCapLaw || (c.law_kept == 0 && capped[0] < spring[0]);
+  c.law_taken = cap ? kCapLaw : kSpringLaw;
+  return cap ? capped : spring;
 }
 
-// One Gauss-Seidel sweep in row order: each contact solved exactly with the others
-// frozen, its change applied at once. d2 and l2 accumulate |d lambda|^2 and |lambda|^2.
-// Record: also write each row's impulse before and after into x and g (3 per row), for
-// the Anderson acceleration, while the row is in cache.
+// One contact of a Gauss-Seidel sweep: solved exactly with the others frozen, its change
+// applied at once. d2 and l2 accumulate |d lambda|^2 and |lambda|^2. Record: also write
+// the row's impulse before and after into x and g (3 each), for the Anderson
+// acceleration, while the row is in cache.
 template <bool Record>
-[[gnu::always_inline]] inline void sweep(std::vector<SolverRow>& cs, SolverBodies& bodies, bool friction,
-                                         bool rotation, double& d2, double& l2, std::int64_t& tangential,
-                                         double* x = nullptr, double* g = nullptr) {
-  const BodyArrays B = arrays_of(bodies);
-  for (SolverRow& c : cs) {
-    const Vec3 u = local_velocity(c, B, rotation);
-    Vec3 lambda_new;
-    if (friction) {
-      // w = u - W lambda (velocity without this contact's impulse) + bias on the normal.
-      Vec3 w = u - c.W * c.lambda;
-      w[0] += c.bias;
-      if (c.compliance > 0.0) {  // the local law on u + c lambda: the block W + c I (docs/method.md s. 5)
-        Mat3 Wc = c.W;
-        Wc.diagonal().array() += c.compliance;
-        lambda_new = solve_local_coulomb(Wc, c.W_inv, w, c.mu).lambda;
-        if (c.bias_capped != 0.0) lambda_new = weaker_push(c, w, lambda_new);
-      } else {
-        lambda_new = solve_local_coulomb(c.W, c.W_inv, w, c.mu).lambda;
-      }
-      ++tangential;
+[[gnu::always_inline]] inline void solve_row(SolverRow& c, const BodyArrays& B, bool friction, bool rotation,
+                                             double& d2, double& l2, double* x, double* g) {
+  const Vec3 u = local_velocity(c, B, rotation);
+  Vec3 lambda_new;
+  if (friction) {
+    // w = u - W lambda (velocity without this contact's impulse) + bias on the normal.
+    Vec3 w = u - c.W * c.lambda;
+    w[0] += c.bias;
+    Eigen::Vector2d hint;  // the last slide's direction starts Newton (local_coulomb.hpp)
+    const Eigen::Vector2d* slid = slide_direction(c.lambda, c.mu, hint) ? &hint : nullptr;
+    if (c.compliance > 0.0) {  // the local law on u + c lambda: the block W + c I (docs/method.md s. 5)
+      Mat3 Wc = c.W;
+      Wc.diagonal().array() += c.compliance;
+      lambda_new = solve_local_coulomb(Wc, c.W_inv, w, c.mu, slid).lambda;
+      if (c.bias_capped != 0.0) lambda_new = weaker_push(c, w, lambda_new);
     } else {
-      const double w_n = u[0] - c.W(0, 0) * c.lambda[0] + c.bias;
-      double l_n = solve_local_normal(c.W(0, 0) + c.compliance, w_n);
-      if (c.bias_capped != 0.0) l_n = std::min(l_n, solve_local_normal(c.W(0, 0), w_n - c.bias + c.bias_capped));
-      lambda_new = Vec3(l_n, 0.0, 0.0);
+      lambda_new = solve_local_coulomb(c.W, c.W_inv, w, c.mu, slid).lambda;
     }
-    const Vec3 d = lambda_new - c.lambda;
-    if (d.squaredNorm() > 0.0) apply_local_impulse(c, d, B, rotation);
-    if constexpr (Record) {
-      for (int j = 0; j < 3; ++j) { x[j] = c.lambda[j]; g[j] = lambda_new[j]; }
-      x += 3;
-      g += 3;
+  } else {
+    const double w_n = u[0] - c.W(0, 0) * c.lambda[0] + c.bias;
+    double l_n = solve_local_normal(c.W(0, 0) + c.compliance, w_n);
+    if (c.bias_capped != 0.0) {
+      const double l_cap = solve_local_normal(c.W(0, 0), w_n - c.bias + c.bias_capped);
+      const bool cap = c.law_kept == kCapLaw || (c.law_kept == 0 && l_cap < l_n);
+      c.law_taken = cap ? kCapLaw : kSpringLaw;
+      l_n = cap ? l_cap : l_n;
     }
-    c.lambda = lambda_new;
-    d2 += d.squaredNorm();
-    l2 += lambda_new.squaredNorm();
+    lambda_new = Vec3(l_n, 0.0, 0.0);
+  }
+  const Vec3 d = lambda_new - c.lambda;
+  if (d.squaredNorm() > 0.0) apply_local_impulse(c, d, B, rotation);
+  if constexpr (Record) {
+    for (int j = 0; j < 3; ++j) { x[j] = c.lambda[j]; g[j] = lambda_new[j]; }
+  }
+  c.lambda = lambda_new;
+  d2 += d.squaredNorm();
+  l2 += lambda_new.squaredNorm();
+}
+
+// One sweep over the rows in their order, colour by colour (solver/row_colouring.hpp):
+// the groups of a colour share no moving body, so threads split them without changing a
+// bit. |d lambda|^2 and |lambda|^2 are summed per group and then over the groups in
+// order, the same sums for any thread count. Without a colouring, one group of all rows.
+template <bool Record>
+void sweep(std::vector<SolverRow>& cs, SolverBodies& bodies, const RowColouring* colouring, int parallel_min_rows,
+           bool friction, bool rotation, double& d2, double& l2, std::vector<double>& sums, double* x = nullptr,
+           double* g = nullptr) {
+  const BodyArrays B = arrays_of(bodies);
+  if (colouring == nullptr) {
+    for (std::size_t k = 0; k < cs.size(); ++k)
+      solve_row<Record>(cs[k], B, friction, rotation, d2, l2, Record ? x + 3 * k : x, Record ? g + 3 * k : g);
+    return;
+  }
+  const RowColouring& col = *colouring;
+  const int ng = col.groups(), nc = col.colours();
+  sums.resize(2 * static_cast<std::size_t>(ng));
+  SolverRow* rows = cs.data();
+  double* gs = sums.data();
+  const int* gb = col.group_begin.data();
+  const int* cb = col.colour_begin.data();
+#pragma omp parallel if (static_cast<int>(cs.size()) > parallel_min_rows)
+  for (int c = 0; c < nc; ++c) {
+#pragma omp for schedule(static)
+    for (int grp = cb[c]; grp < cb[c + 1]; ++grp) {
+      double gd2 = 0.0, gl2 = 0.0;
+      for (int k = gb[grp]; k < gb[grp + 1]; ++k)
+        solve_row<Record>(rows[k], B, friction, rotation, gd2, gl2, Record ? x + 3 * k : x, Record ? g + 3 * k : g);
+      gs[2 * grp] = gd2;
+      gs[2 * grp + 1] = gl2;
+    }
+  }
+  for (int grp = 0; grp < ng; ++grp) {
+    d2 += gs[2 * grp];
+    l2 += gs[2 * grp + 1];
   }
 }
 
-// The extrapolated impulses into the rows, and the body velocities rebuilt for them as
-// they are written: v = v_free + M^-1 H lambda (one pass over the rows).
-void write_extrapolated(std::vector<SolverRow>& cs, const AndersonMixer& mixer, SolverBodies& B,
-                        const SolverScratch& s, bool rotation) {
-  B.v = s.v_free;
-  B.w = s.w_free;
+// The extrapolated impulses into the rows, and the body velocities for them: the same
+// mix of the velocity history (they are linear in the impulses), corrected by the rows
+// whose projection onto the cone changed their impulse.
+void write_extrapolated(std::vector<SolverRow>& cs, const AndersonMixer& mixer, SolverBodies& B, bool rotation,
+                        const RowColouring* colouring, int parallel_min_rows) {
+  mixer.extrapolated_velocities(B.v, B.w);
   const BodyArrays arrays = arrays_of(B);
-  for (std::size_t k = 0; k < cs.size(); ++k) {
-    cs[k].lambda = mixer.extrapolated(k, cs[k].mu);
-    apply_local_impulse(cs[k], cs[k].lambda, arrays, rotation);
+  auto write = [&](int k) {
+    SolverRow& c = cs[static_cast<std::size_t>(k)];
+    const Vec3 raw = mixer.unprojected(static_cast<std::size_t>(k));
+    c.lambda = project_onto_cone(raw, c.mu);
+    if (c.lambda != raw) apply_local_impulse(c, Vec3(c.lambda - raw), arrays, rotation);
+  };
+  if (colouring == nullptr) {
+    for (int k = 0; k < static_cast<int>(cs.size()); ++k) write(k);
+    return;
+  }
+  const int* gb = colouring->group_begin.data();
+  const int* cb = colouring->colour_begin.data();
+  const int nc = colouring->colours();
+#pragma omp parallel if (static_cast<int>(cs.size()) > parallel_min_rows)
+  for (int c = 0; c < nc; ++c) {
+#pragma omp for schedule(static)
+    for (int grp = cb[c]; grp < cb[c + 1]; ++grp)
+      for (int k = gb[grp]; k < gb[grp + 1]; ++k) write(k);
   }
 }
 
@@ -114,16 +175,24 @@ NsgsResult solve_nsgs(std::vector<SolverRow>& cs, SolverBodies& B, const NsgsSet
   const int half = set.max_iterations / 2;
   double normal_half = -1.0;  // sum of the normal impulses after half the allowed sweeps
   std::int64_t tangential = 0;
-  AndersonMixer mixer(set.anderson_depth);
-  const bool accelerate = set.anderson_depth > 0;
+  AndersonMixer mixer(set.anderson_depth, set.parallel_min_rows);
+  bool accelerate = set.anderson_depth > 0;
+  // Stall guard of the acceleration: the residual must halve within kStallSweeps sweeps
+  // of the last halving, or the rest of the solve runs plain sweeps, which contract for
+  // every compliant problem (W + c I is positive definite) while a projected
+  // extrapolation can cycle near the cones' edges (a 400 bed stopped at the 5000 cap
+  // with residual 4e-4).
+  double mark = HUGE_VAL;
+  int mark_it = 0;
   for (it = 1; it <= set.max_iterations && !cs.empty(); ++it) {
     if (set.by_velocity) { s.v_sweep = B.v; s.w_sweep = B.w; }
     double d2 = 0.0, l2 = 0.0;
     if (accelerate)
-      sweep<true>(cs, B, friction, rotation, d2, l2, tangential, mixer.record_buffer(cs.size(), false),
-                  mixer.record_buffer(cs.size(), true));
+      sweep<true>(cs, B, set.colouring, set.parallel_min_rows, friction, rotation, d2, l2, s.group_sums,
+                  mixer.record_buffer(cs.size(), false), mixer.record_buffer(cs.size(), true));
     else
-      sweep<false>(cs, B, friction, rotation, d2, l2, tangential);
+      sweep<false>(cs, B, set.colouring, set.parallel_min_rows, friction, rotation, d2, l2, s.group_sums);
+    if (friction) tangential += static_cast<std::int64_t>(cs.size());
     if (set.by_velocity) {
       const double de = velocity_change(B, s.v_sweep, s.w_sweep, rotation);
       const double e = velocity_change(B, s.v_free, s.w_free, rotation);
@@ -136,7 +205,20 @@ NsgsResult solve_nsgs(std::vector<SolverRow>& cs, SolverBodies& B, const NsgsSet
       for (const SolverRow& c : cs) normal_half += c.lambda[0];
     }
     if (residual < tol) break;
-    if (accelerate && mixer.plan(cs)) write_extrapolated(cs, mixer, B, s, rotation);
+    if (residual < 0.5 * mark) {
+      mark = residual;
+      mark_it = it;
+    } else if (it - mark_it >= kStallSweeps && !out.plain_fallback) {
+      // Stalled: plain sweeps from here, and every capped row keeps the law it took, so
+      // that each row's law is one monotone law and the sweeps contract.
+      accelerate = false;
+      out.plain_fallback = true;
+      for (SolverRow& c : cs) c.law_kept = c.law_taken;
+    }
+    if (accelerate) {
+      mixer.record_velocities(B.v, B.w);
+      if (mixer.plan(cs)) write_extrapolated(cs, mixer, B, rotation, set.colouring, set.parallel_min_rows);
+    }
   }
   out.sweeps = cs.empty() ? 0 : std::min(it, set.max_iterations);
   out.converged = cs.empty() || residual < tol;

@@ -10,6 +10,7 @@
 
 #include "ratchet/core/contact_side.hpp"
 #include "ratchet/core/types.hpp"
+#include "ratchet/solver/row_colouring.hpp"
 
 namespace ratchet {
 
@@ -28,6 +29,9 @@ struct SolverRow {
   double mu = 0.0;
   double bias = 0.0;               // b: u_n + b >= 0 is the velocity form of g(t+h) >= 0
   double bias_capped = 0.0;        // compliant rows: -(speed cap) when it binds, else 0 (docs/method.md s. 5)
+  // Which of a capped row's two laws its last solve took (1 spring, 2 cap), and, once a
+  // stalled solve has frozen it, the one it keeps (0: the weaker push, chosen each time).
+  std::int8_t law_taken = 0, law_kept = 0;
   Vec3 u0 = Vec3::Zero();          // F^T u_expansion: the local velocity no body velocity explains
   Vec3 lambda = Vec3::Zero();      // local impulse (n, t1, t2) on A
 };
@@ -46,6 +50,11 @@ struct SolverBodies {
   const std::vector<double>& scale;         // thermal scale of each body
 };
 
+// Below this many rows a sweep takes tens of microseconds and a parallel region's start
+// and barriers (one per colour) cost more than they save; the solve's passes run on one
+// thread then (the same bits either way).
+constexpr int kParallelMinRows = 2048;
+
 struct NsgsSettings {
   double tolerance = 1e-4;
   int max_iterations = 100;
@@ -53,6 +62,8 @@ struct NsgsSettings {
   bool friction = true;
   bool rotation = true;
   int anderson_depth = 0;    // > 0: Anderson acceleration with this memory (solver/anderson.hpp)
+  int parallel_min_rows = kParallelMinRows;
+  const RowColouring* colouring = nullptr;  // the rows' colouring (parallel sweep), or null: one thread in row order
 };
 
 struct NsgsResult {
@@ -62,6 +73,7 @@ struct NsgsResult {
   bool normal_growth = false;          // unconverged, and the normal impulses still grew
   std::int64_t tangential_solves = 0;  // local solves with friction in this call
   int restarts = 0;                    // Anderson history restarts
+  bool plain_fallback = false;         // the acceleration stalled and plain sweeps finished
 };
 
 // The arrays a sweep touches, as raw pointers taken once per sweep: through the
@@ -109,6 +121,7 @@ inline Vec3 local_velocity(const SolverRow& r, const BodyArrays& B, bool rotatio
 // for the velocity criterion and the Anderson acceleration) and before each sweep.
 struct SolverScratch {
   std::vector<Vec3> v_free, w_free, v_sweep, w_sweep;
+  std::vector<double> group_sums;  // per group of the colouring: |d lambda|^2, |lambda|^2 of a sweep
 };
 
 // Sweeps the rows in order until the residual falls below the tolerance or

@@ -45,9 +45,13 @@ void World::build_rows() {
   const double eps_wall = test_hooks().drop_wall_expansion ? 0.0 : scratch_.eps_c;
   s.rows.resize(s.contacts.size());
   double min_gap = 0.0;
-  for (std::size_t k = 0; k < s.contacts.size(); ++k) {
-    SolverContact& c = s.contacts[k];
-    SolverRow& r = s.rows[k];
+  const int n = static_cast<int>(s.contacts.size());
+  // Each row from its own contact: any split among threads gives the same rows (min is exact).
+  const int parallel_min = test_hooks().parallel_min_rows >= 0 ? test_hooks().parallel_min_rows : kParallelMinRows;
+#pragma omp parallel for schedule(static) reduction(min : min_gap) if (n > parallel_min)
+  for (int k = 0; k < n; ++k) {
+    SolverContact& c = s.contacts[static_cast<std::size_t>(k)];
+    SolverRow& r = s.rows[static_cast<std::size_t>(k)];
     r.a = c.a;
     r.b = c.b;
     r.mu = c.mu;
@@ -120,6 +124,7 @@ void World::build_rows() {
       r.bias_capped = capped && r.compliance > 0.0 ? -cap : 0.0;
     }
     r.lambda.setZero();
+    r.law_taken = r.law_kept = 0;
     c.lambda.setZero();
   }
   stats_.max_overlap = min_gap < 0.0 ? -min_gap : 0.0;  // not -0

@@ -113,9 +113,12 @@ void World::find_wall_pairs(const std::vector<Vec3>& wall_points) {
   }
 }
 
-// Gather in a fixed order: body pairs (sorted), then bodies against walls.
+// Gather in a fixed order: body pairs (sorted), then bodies against walls; then into
+// the colour order of the parallel sweep (solver/row_colouring.hpp), a function of this
+// list alone, so the same for any thread count.
 void World::gather_contacts() {
   StepScratch& s = scratch_;
+  s.contacts.swap(s.gathered);
   s.contacts.clear();
   for (std::size_t k = 0; k < s.pairs.size(); ++k) {
     const ContactManifold& m = s.pair_manifolds[k];
@@ -139,6 +142,16 @@ void World::gather_contacts() {
       s.contacts.push_back(sc);
     }
   }
+  const std::size_t n = s.contacts.size();
+  s.row_a.resize(n);
+  s.row_b.resize(n);
+  for (std::size_t k = 0; k < n; ++k) { s.row_a[k] = s.contacts[k].a; s.row_b[k] = s.contacts[k].b; }
+  s.moving.resize(scene_.bodies.size());
+  for (std::size_t i = 0; i < scene_.bodies.size(); ++i) s.moving[i] = !scene_.bodies[i].fixed;
+  colour_rows(s.row_a, s.row_b, s.moving, s.order, s.colouring);
+  s.gathered.swap(s.contacts);
+  s.contacts.resize(n);
+  for (std::size_t j = 0; j < n; ++j) s.contacts[j] = s.gathered[static_cast<std::size_t>(s.order[j])];
 }
 
 // 3. Contact detection: the narrow phase runs in parallel into per-pair slots, which

@@ -43,7 +43,11 @@ struct StepScratch {
   std::vector<CommonPlaneCache> pair_planes;    // per candidate pair (polyhedron pairs only)
   std::vector<std::pair<int, int>> wall_pairs;  // (body, wall) within reach, body-major
   std::vector<ContactManifold> wall_manifolds;  // per wall pair
-  std::vector<SolverContact> contacts;
+  std::vector<SolverContact> contacts;   // in the order of `colouring`
+  std::vector<SolverContact> gathered;   // as gathered, before the colour order
+  RowColouring colouring;          // the contacts' groups and colours (solver/row_colouring.hpp)
+  std::vector<int> order, row_a, row_b;  // the colour order and its input
+  std::vector<bool> moving;        // per body: not fixed
   std::vector<SolverRow> rows;     // the solver's data, one per contact, same order
   SolverScratch solver;            // what the global solve keeps between sweeps
 };

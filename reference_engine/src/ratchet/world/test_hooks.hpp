@@ -8,6 +8,8 @@ namespace ratchet {
 
 struct TestHooks {
   bool drop_wall_expansion = false;  // contacts with an expanding wall lose its expansion velocity
+  int parallel_min_rows = -1;        // >= 0: the solve's parallel loops run above this many rows
+                                     // (tests run them on small beds); else kParallelMinRows
 };
 
 TestHooks& test_hooks();

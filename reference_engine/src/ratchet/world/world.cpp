@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "ratchet/solver/nsgs.hpp"
+#include "ratchet/world/test_hooks.hpp"
 
 namespace ratchet {
 
@@ -154,6 +155,8 @@ void World::solve() {
   settings.friction = friction_on_;
   settings.rotation = rotation_on_;
   if (scene_.solver.acceleration == Acceleration::Anderson) settings.anderson_depth = scene_.solver.anderson_depth;
+  settings.colouring = &scratch_.colouring;
+  if (test_hooks().parallel_min_rows >= 0) settings.parallel_min_rows = test_hooks().parallel_min_rows;
   if (settings.by_velocity || settings.anderson_depth > 0) { scratch_.solver.v_free = state_.v; scratch_.solver.w_free = state_.w; }
   scratch_.v_free = state_.v;
   scratch_.w_free = state_.w;

@@ -76,6 +76,7 @@ class World {
   const StepStats& stats() const { return stats_; }
   const PhaseTimers& timers() const { return timers_; }
   const std::vector<SolverContact>& contacts() const { return scratch_.contacts; }
+  const RowColouring& contact_colouring() const { return scratch_.colouring; }
   std::vector<PlanItem> plan() const;
 
   // Observables of the current state are functions of (scene, state) in observe/.

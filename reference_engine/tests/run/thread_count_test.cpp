@@ -1,0 +1,99 @@
+// The same scene and seed give the same bytes on any number of threads: a bed of
+// polyhedra poured and settled once, then heated and cooled from that packing (compliant
+// Anderson sweeps as the tiers) on 1, 2, 3 and 8 threads, with the solve's parallel loops
+// forced on at any size (world/test_hooks.hpp) so that the coloured sweep, the Anderson
+// passes and the row build all split their work. timeseries.csv is compared without its
+// time_* columns, the wall-clock time of each phase. (The pour runs the same code; it is
+// left out because 8 threads on a 2-core machine make its thousands of small steps slow.)
+#include <gtest/gtest.h>
+#include <omp.h>
+
+#include <chrono>
+#include <filesystem>
+#include <iostream>
+#include <sstream>
+
+#include "../support/test_files.hpp"
+#include "ratchet/run/packing.hpp"
+#include "ratchet/run/run_output.hpp"
+#include "ratchet/run/runner.hpp"
+#include "ratchet/world/test_hooks.hpp"
+
+namespace ratchet {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+json cycled_bed() {
+  return json::parse(R"({
+    "name": "threads", "seed": 9, "time": {"dt": 0.004},
+    "solver": {"tolerance": 1e-4, "max_iterations": 2000, "acceleration": "anderson", "compliance": 0.1},
+    "container": {"type": "cone", "bottom_radius": 3.0, "opening_angle_deg": 4.0, "segments": 8},
+    "particles": {"generate": {"count": 50, "shape": "polyhedron", "vertices": 12, "radius_range": [0.3, 0.5]}},
+    "settle": {"ke_ratio": 1e-2, "max_time": 10.0},
+    "thermal": {"start_time": 0.2, "heat_time": 0.6, "hold_time": 0.1, "cool_time": 0.6, "cycles": 1,
+                "alpha_p": 1e-4, "alpha_c": 1e-3},
+    "outputs": {"timeseries_every": 1, "bodies_every": 100}
+  })");
+}
+
+std::string without_timing_columns(const std::string& csv) {
+  std::istringstream in(csv);
+  std::string line, out;
+  std::vector<bool> keep;
+  while (std::getline(in, line)) {
+    std::vector<std::string> cells;
+    std::stringstream ss(line);
+    for (std::string c; std::getline(ss, c, ',');) cells.push_back(c);
+    if (keep.empty())
+      for (const auto& c : cells) keep.push_back(c.rfind("time_", 0) != 0);
+    for (std::size_t i = 0; i < cells.size(); ++i)
+      if (i < keep.size() && keep[i]) out += cells[i] + ",";
+    out += "\n";
+  }
+  return out;
+}
+
+TEST(ThreadCount, OneTwoThreeAndEightThreadsWriteTheSameBytes) {
+  const int saved_threads = omp_get_max_threads();
+  const SceneDef scene = build_scene(cycled_bed(), "threads.json");
+  const fs::path packing = test::fresh_dir("ratchet_threads_packing") / "bed.state";
+  {
+    World world(scene);
+    write_packing(packing.string(), world, settle_world(world), json::object());
+  }
+  test_hooks().parallel_min_rows = 0;
+  std::vector<std::string> series, bodies;
+  int most_colours = 0;
+  for (int threads : {1, 2, 3, 8}) {
+    omp_set_num_threads(threads);
+    const auto start = std::chrono::steady_clock::now();
+    const fs::path dir = test::fresh_dir("ratchet_threads_" + std::to_string(threads));
+    World world(scene);
+    RunOptions opt;
+    opt.packing_settle = load_packing(packing.string(), world).value("settle", json());
+    opt.packing = packing_reference(packing.string(), world);
+    opt.out_dir = dir.string();
+    run_world(world, opt, [&](const World& w) {
+      most_colours = std::max(most_colours, w.contact_colouring().colours());
+    });
+    series.push_back(without_timing_columns(test::read_text(dir / "timeseries.csv")));
+    bodies.push_back(test::read_text(dir / "bodies.csv"));
+    fs::remove_all(dir);
+    std::cout << threads << " threads: " << std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()
+              << " s\n";
+  }
+  test_hooks().parallel_min_rows = -1;
+  omp_set_num_threads(saved_threads);
+  EXPECT_GT(series[0].size(), 50000u);  // hundreds of steps, one row each
+  fs::remove_all(packing.parent_path());
+  EXPECT_GT(most_colours, 3);            // the sweep really had several colours to split
+  for (std::size_t k = 1; k < series.size(); ++k) {
+    EXPECT_TRUE(series[k] == series[0]) << "timeseries.csv differs at thread count index " << k;
+    EXPECT_TRUE(bodies[k] == bodies[0]) << "bodies.csv differs at thread count index " << k;
+  }
+}
+
+}  // namespace
+}  // namespace ratchet
