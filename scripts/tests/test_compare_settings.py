@@ -116,3 +116,30 @@ def test_bad_plan_stops_before_any_work(tmp_path, fields, expected):
     assert r.returncode == 2
     assert str(plan) in r.stderr and expected in r.stderr
     assert not (tmp_path / "out").exists()
+
+
+def test_engine_option_runs_that_setting_with_the_other_binary(tmp_path):
+    # The other binary is a wrapper that logs each call and runs the engine: only the
+    # named setting's runs go through it, from the packings of the default engine.
+    log = tmp_path / "calls.log"
+    wrapper = tmp_path / "other-engine"
+    wrapper.write_text(f'#!/bin/sh\necho "$@" >> "{log}"\nexec "{RATCHET}" "$@"\n')
+    wrapper.chmod(0o755)
+    plan = write_plan(tmp_path, seeds=[1, 2])
+    r = call(plan, "--out", tmp_path / "out", "--jobs", "2", "--engine", f"soft={wrapper}")
+    assert r.returncode == 0, r.stderr
+    calls = log.read_text().splitlines()
+    assert len(calls) == 2 and all(c.startswith("run ") and "/runs/soft-s" in c for c in calls)
+
+
+@pytest.mark.parametrize("engine, expected", [
+    ("hard=/bin/true", "--engine: expected SETTING=BIN with SETTING one of rigid, soft"),
+    ("soft", "--engine: expected SETTING=BIN"),
+    ("soft=/no/such/engine", "--engine: /no/such/engine: no such file"),
+])
+def test_bad_engine_option_stops_before_any_work(tmp_path, engine, expected):
+    plan = write_plan(tmp_path)
+    r = call(plan, "--out", tmp_path / "out", "--engine", engine)
+    assert r.returncode == 2
+    assert expected in r.stderr
+    assert not (tmp_path / "out").exists()
