@@ -25,6 +25,7 @@ namespace {
 
 namespace fs = std::filesystem;
 using nlohmann::json;
+using test::without_timing_columns;
 using test::fresh_dir;
 using test::read_text;
 
@@ -49,23 +50,6 @@ json bed() {
   })");
 }
 
-// A CSV with its time_* columns (wall-clock time per phase) taken out.
-std::string without_timing_columns(const std::string& csv) {
-  std::istringstream in(csv);
-  std::string line, out;
-  std::vector<bool> keep;
-  while (std::getline(in, line)) {
-    std::vector<std::string> cells;
-    std::stringstream ss(line);
-    for (std::string c; std::getline(ss, c, ',');) cells.push_back(c);
-    if (keep.empty())
-      for (const auto& c : cells) keep.push_back(c.rfind("time_", 0) != 0);
-    for (std::size_t i = 0; i < cells.size(); ++i)
-      if (i < keep.size() && keep[i]) out += cells[i] + ",";
-    out += "\n";
-  }
-  return out;
-}
 
 // run.json without what a clock decides.
 json without_timings(json j) {

@@ -24,6 +24,7 @@ namespace {
 
 namespace fs = std::filesystem;
 using nlohmann::json;
+using test::without_timing_columns;
 
 json cycled_bed() {
   return json::parse(R"({
@@ -38,22 +39,6 @@ json cycled_bed() {
   })");
 }
 
-std::string without_timing_columns(const std::string& csv) {
-  std::istringstream in(csv);
-  std::string line, out;
-  std::vector<bool> keep;
-  while (std::getline(in, line)) {
-    std::vector<std::string> cells;
-    std::stringstream ss(line);
-    for (std::string c; std::getline(ss, c, ',');) cells.push_back(c);
-    if (keep.empty())
-      for (const auto& c : cells) keep.push_back(c.rfind("time_", 0) != 0);
-    for (std::size_t i = 0; i < cells.size(); ++i)
-      if (i < keep.size() && keep[i]) out += cells[i] + ",";
-    out += "\n";
-  }
-  return out;
-}
 
 TEST(ThreadCount, OneTwoThreeAndEightThreadsWriteTheSameBytes) {
   const int saved_threads = omp_get_max_threads();

@@ -40,6 +40,25 @@ inline std::filesystem::path fresh_dir(const std::string& prefix) {
   return d;
 }
 
+// A CSV with its time_* columns (wall-clock time per phase) taken out: what a rerun, a
+// resumed run or another thread count must reproduce byte for byte.
+inline std::string without_timing_columns(const std::string& csv) {
+  std::istringstream in(csv);
+  std::string line, out;
+  std::vector<bool> keep;
+  while (std::getline(in, line)) {
+    std::vector<std::string> cells;
+    std::stringstream ss(line);
+    for (std::string c; std::getline(ss, c, ',');) cells.push_back(c);
+    if (keep.empty())
+      for (const auto& c : cells) keep.push_back(c.rfind("time_", 0) != 0);
+    for (std::size_t i = 0; i < cells.size(); ++i)
+      if (i < keep.size() && keep[i]) out += cells[i] + ",";
+    out += "\n";
+  }
+  return out;
+}
+
 // The bit pattern of a double: bit-for-bit comparisons say which bits moved.
 inline std::uint64_t bits(double x) {
   std::uint64_t b;
