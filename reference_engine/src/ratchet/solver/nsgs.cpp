@@ -141,20 +141,6 @@ void write_extrapolated(std::vector<SolverRow>& cs, const AndersonMixer& mixer, 
 
 }  // namespace
 
-double velocity_change(const SolverBodies& B, const std::vector<Vec3>& v0, const std::vector<Vec3>& w0,
-                       bool rotation) {
-  double e = 0.0;
-  for (std::size_t i = 0; i < B.v.size(); ++i) {
-    if (B.mass[i] == 0.0) continue;  // fixed
-    e += B.mass[i] * (B.v[i] - v0[i]).squaredNorm();
-    if (rotation) {
-      const double sc = B.scale[i];
-      const Vec3 dw = B.R[i].transpose() * (B.w[i] - w0[i]);
-      e += (sc * sc) * dw.dot(B.principal_inertia[i].cwiseProduct(dw));
-    }
-  }
-  return e;
-}
 
 // Sweep the contacts, solve each exactly with the others frozen, apply the change at
 // once. The residual, by solver.criterion (docs/method.md s. 7):
@@ -200,10 +186,7 @@ NsgsResult solve_nsgs(std::vector<SolverRow>& cs, SolverBodies& B, const NsgsSet
     } else {
       residual = l2 > 0.0 ? std::sqrt(d2 / l2) : std::sqrt(d2);
     }
-    if (it == half) {
-      normal_half = 0.0;
-      for (const SolverRow& c : cs) normal_half += c.lambda[0];
-    }
+    if (it == half) normal_half = normal_impulse_sum(cs);
     if (residual < tol) break;
     if (residual < 0.5 * mark) {
       mark = residual;
@@ -222,13 +205,7 @@ NsgsResult solve_nsgs(std::vector<SolverRow>& cs, SolverBodies& B, const NsgsSet
   }
   out.sweeps = cs.empty() ? 0 : std::min(it, set.max_iterations);
   out.converged = cs.empty() || residual < tol;
-  double normal_end = 0.0;
-  for (const SolverRow& c : cs) normal_end += c.lambda[0];
-  // An unconverged step whose normal impulses still grew by half over the second half
-  // of its sweeps signals a rigid problem with no solution: there they grow in
-  // proportion to the sweep count (World::keep_impulses). A solvable problem that is
-  // merely slow has settled its normal impulses long before.
-  out.normal_growth = !out.converged && normal_half >= 0.0 && normal_end > 1.5 * normal_half;
+  out.normal_growth = normal_impulses_grew(out.converged, normal_half, normal_impulse_sum(cs));
   out.residual = residual;
   out.tangential_solves = tangential;
   out.restarts = mixer.restarts();

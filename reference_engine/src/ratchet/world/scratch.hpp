@@ -29,7 +29,6 @@ struct StepScratch {
   ThermalScales next;              // scales at t + h
   double eps_p = 0.0, eps_c = 0.0; // expansion rates (ds/dt)/s over the step
   std::vector<Vec3> v_begin, w_begin;
-  std::vector<Vec3> v_free, w_free;  // velocities before the solve (a jam solves again from them)
   std::vector<Mat3> R;             // body -> world rotations
   std::vector<Mat3> inv_inertia;   // world-frame inverse inertia (zero: no rotation)
   std::vector<double> inv_mass;    // zero for fixed bodies

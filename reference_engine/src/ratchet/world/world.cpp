@@ -157,9 +157,8 @@ void World::solve() {
   if (scene_.solver.acceleration == Acceleration::Anderson) settings.anderson_depth = scene_.solver.anderson_depth;
   settings.colouring = &scratch_.colouring;
   if (test_hooks().parallel_min_rows >= 0) settings.parallel_min_rows = test_hooks().parallel_min_rows;
-  if (settings.by_velocity || settings.anderson_depth > 0) { scratch_.solver.v_free = state_.v; scratch_.solver.w_free = state_.w; }
-  scratch_.v_free = state_.v;
-  scratch_.w_free = state_.w;
+  scratch_.solver.v_free = state_.v;  // stored once: the velocity criterion and the jam's re-solve read it
+  scratch_.solver.w_free = state_.w;
   warm_start(bodies);
   NsgsResult r = solve_nsgs(scratch_.rows, bodies, settings, scratch_.solver);
   int sweeps = r.sweeps;
@@ -193,8 +192,8 @@ void World::solve() {
 // (docs/method.md, "Infeasible jam"). Compliant contacts always have a solution and never
 // come here.
 void World::yield_to_jam(SolverBodies& bodies) {
-  bodies.v = scratch_.v_free;
-  bodies.w = scratch_.w_free;
+  bodies.v = scratch_.solver.v_free;
+  bodies.w = scratch_.solver.w_free;
   for (SolverRow& r : scratch_.rows) {
     r.u0.setZero();
     r.bias = std::max(r.bias, 0.0);

@@ -1,0 +1,40 @@
+// What every global solve shares (solver/solver_rows.hpp): the kernels keep a contact's
+// local velocity and its bodies' velocities consistent, and the jam detector fires only
+// on an unconverged solve whose normal impulses still grew.
+#include "ratchet/solver/solver_rows.hpp"
+
+#include <gtest/gtest.h>
+
+namespace ratchet {
+namespace {
+
+TEST(SolverRows, AnImpulseChangesTheLocalVelocityByWTimesIt) {
+  // Two unit masses, no rotation, the identity frame (n = x): W = (1/m_a + 1/m_b) I = 2 I.
+  std::vector<Vec3> v = {Vec3(0, 0, -1), Vec3(0, 0, 1)}, w(2, Vec3::Zero());
+  const std::vector<double> inv_mass = {1.0, 1.0};
+  const std::vector<Mat3> inv_inertia(2, Mat3::Zero());
+  const BodyArrays B{v.data(), w.data(), inv_mass.data(), inv_inertia.data()};
+  SolverRow r;
+  r.a = 0;
+  r.b = 1;
+  const Vec3 before = local_velocity(r, B, false);
+  EXPECT_EQ(before, Vec3(0, 0, -2));
+  apply_local_impulse(r, Vec3(0.25, 0.5, 0.0), B, false);
+  EXPECT_EQ(local_velocity(r, B, false) - before, Vec3(0.5, 1.0, 0.0));  // exact in binary
+  EXPECT_EQ(v[0] + v[1], Vec3(0, 0, 0));  // momentum kept: equal and opposite
+}
+
+TEST(SolverRows, TheJamDetectorNeedsUnconvergedGrowthByHalf) {
+  EXPECT_TRUE(normal_impulses_grew(false, 1.0, 1.6));
+  EXPECT_FALSE(normal_impulses_grew(false, 1.0, 1.4));  // slow, but settled
+  EXPECT_FALSE(normal_impulses_grew(true, 1.0, 3.0));   // converged
+  EXPECT_FALSE(normal_impulses_grew(false, -1.0, 3.0)); // never reached half the cap
+  std::vector<SolverRow> rows(3);
+  rows[0].lambda[0] = 1.0;
+  rows[1].lambda[0] = 0.5;
+  rows[2].lambda = Vec3(0.25, 9.0, 9.0);  // tangential parts do not count
+  EXPECT_EQ(normal_impulse_sum(rows), 1.75);
+}
+
+}  // namespace
+}  // namespace ratchet
