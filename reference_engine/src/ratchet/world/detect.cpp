@@ -118,8 +118,7 @@ void World::find_wall_pairs(const std::vector<Vec3>& wall_points) {
 // list alone, so the same for any thread count.
 void World::gather_contacts() {
   StepScratch& s = scratch_;
-  s.contacts.swap(s.gathered);
-  s.contacts.clear();
+  s.gathered.clear();
   for (std::size_t k = 0; k < s.pairs.size(); ++k) {
     const ContactManifold& m = s.pair_manifolds[k];
     for (int c = 0; c < m.count; ++c) {
@@ -128,7 +127,7 @@ void World::gather_contacts() {
       sc.b = s.pairs[k].second;
       sc.geometry = m.points[static_cast<std::size_t>(c)];
       sc.mu = scene_.materials.friction;
-      s.contacts.push_back(sc);
+      s.gathered.push_back(sc);
     }
   }
   for (std::size_t k = 0; k < s.wall_pairs.size(); ++k) {
@@ -139,17 +138,18 @@ void World::gather_contacts() {
       sc.b = wall_side(s.wall_pairs[k].second);
       sc.geometry = m.points[static_cast<std::size_t>(c)];
       sc.mu = scene_.materials.wall_friction;
-      s.contacts.push_back(sc);
+      s.gathered.push_back(sc);
     }
   }
-  const std::size_t n = s.contacts.size();
+  const std::size_t n = s.gathered.size();
   s.row_a.resize(n);
   s.row_b.resize(n);
-  for (std::size_t k = 0; k < n; ++k) { s.row_a[k] = s.contacts[k].a; s.row_b[k] = s.contacts[k].b; }
-  s.moving.resize(scene_.bodies.size());
-  for (std::size_t i = 0; i < scene_.bodies.size(); ++i) s.moving[i] = !scene_.bodies[i].fixed;
+  for (std::size_t k = 0; k < n; ++k) { s.row_a[k] = s.gathered[k].a; s.row_b[k] = s.gathered[k].b; }
+  if (s.moving.size() != scene_.bodies.size()) {  // which bodies are fixed never changes
+    s.moving.resize(scene_.bodies.size());
+    for (std::size_t i = 0; i < scene_.bodies.size(); ++i) s.moving[i] = !scene_.bodies[i].fixed;
+  }
   colour_rows(s.row_a, s.row_b, s.moving, s.order, s.colouring);
-  s.gathered.swap(s.contacts);
   s.contacts.resize(n);
   for (std::size_t j = 0; j < n; ++j) s.contacts[j] = s.gathered[static_cast<std::size_t>(s.order[j])];
 }
