@@ -7,6 +7,10 @@ pass/fail table with totals, and writes OUT/report.md and OUT/report.html atomic
 with every PNG of OUT/figures embedded (relative links in Markdown, base64 in HTML)
 and every OUT/notes/*.md (plain-language findings of the validation scripts) appended.
 
+A section "The paper, figure by figure" judges each checkable statement of the paper at
+its scale from the campaign's stored runs (analysis/paper_repro.py,
+docs/paper-reproduction.md); the headline that follows it is the reduced-scale check.
+
 This module prepares the data (rows, totals, verdict, headline tables, captions, links,
 base64 figures, note blocks) as plain dicts and lists; the layout is in the Jinja2
 templates of scripts/templates/ (report.md.j2, report.html.j2 with report.css, and the
@@ -51,10 +55,12 @@ from common.figures import figure_caption, save_figure  # noqa: E402,F401  (part
 from common.fsutil import write_atomic  # noqa: E402
 from common.gitinfo import git_commit  # noqa: E402
 from common.paths import REPO_ROOT, build_dir as default_build_dir  # noqa: E402
-from analysis import headline  # noqa: E402
+from common import templates  # noqa: E402
+from common.templates import md_cell  # noqa: E402,F401  (part of this module's interface)
+from analysis import headline, paper_repro  # noqa: E402
 
 #: The report templates (Jinja2): report.md.j2, report.html.j2 and what they include.
-TEMPLATES_DIR = Path(__file__).resolve().parent / "templates"
+TEMPLATES_DIR = templates.TEMPLATES_DIR
 MARKDOWN_TEMPLATE = "report.md.j2"
 HTML_TEMPLATE = "report.html.j2"
 #: Stored results of the larger tiers (scripts/trends --store), shown in every report.
@@ -66,6 +72,17 @@ NO_SWEEP_TEXT = (
     "particles, scripts/validate --sweeps) do not resolve the 6 deg halving or the quadratic "
     "fits (docs/trends.md). The stored results of larger tiers follow, with their date and "
     "engine commit; a not-resolved row says what it would take.")
+
+#: The headline's scale, said where it is shown: its sweeps are smaller than the paper's.
+HEADLINE_SCALE_TEXT = (
+    "These are reduced-scale checks, not the paper's verdicts: the headline sweeps of "
+    "scripts/validate (400 and 200 polyhedra, 3 cycles) and the stored results of the "
+    "standard tier (200 polyhedra, 6 cycles, 1 or 2 realizations per point) run the "
+    "paper's checks on smaller beds than the paper's 2000 polyhedra, 20 cycles and 5 "
+    "realizations. The verdicts at the paper's scale are in \"The paper, figure by figure\".")
+#: Where the paper-scale section's sweeps and figures go, inside OUT.
+PAPER_DIR = "paper-repro"
+PAPER_MISSING_TEXT = "not made for this report (scripts/report.py makes it from validation/results/paper/)."
 
 #: Fields of one JSON line, in the order the writer emits them.
 FIELDS = ("case", "check", "measured", "expected", "tolerance", "reason", "passed")
@@ -387,12 +404,6 @@ def render_terminal(checks: pd.DataFrame, color: bool = False) -> str:
     return "\n".join(out) + "\n"
 
 
-def md_cell(text: str) -> str:
-    """One Markdown table cell: white space folded, backslashes and pipes escaped, an
-    empty cell a space (the templates' md_cell filter)."""
-    return " ".join(str(text).split()).replace("\\", "\\\\").replace("|", "\\|") or " "
-
-
 def _md_link(path: str) -> str:
     return urllib.parse.quote(path, safe="/._-")
 
@@ -436,16 +447,10 @@ def headline_sources(current: dict | None, stored: Sequence[dict]) -> list[tuple
 
 
 def template_environment(folder: str | os.PathLike | None = None) -> jinja2.Environment:
-    """The Jinja2 environment of the report templates (default TEMPLATES_DIR): HTML
-    templates (*.html.j2) autoescaped, the Markdown ones not; an undefined variable is
-    an error; filter md_cell."""
-    environment = jinja2.Environment(
-        loader=jinja2.FileSystemLoader(str(folder if folder is not None else TEMPLATES_DIR)),
-        autoescape=jinja2.select_autoescape(["html", "html.j2"]),
-        undefined=jinja2.StrictUndefined, keep_trailing_newline=True, trim_blocks=True,
-        lstrip_blocks=True)
-    environment.filters["md_cell"] = md_cell
-    return environment
+    """The Jinja2 environment of the report templates (default TEMPLATES_DIR), that of
+    common/templates.py: HTML templates (*.html.j2) autoescaped, the Markdown ones not;
+    an undefined variable is an error; filter md_cell."""
+    return templates.environment(folder if folder is not None else TEMPLATES_DIR)
 
 
 def render_template(name: str, context: dict, folder: str | os.PathLike | None = None) -> str:
@@ -462,8 +467,9 @@ def _template_frame(error: BaseException) -> str:
 
 
 def _context(checks: pd.DataFrame, meta: dict[str, str] | None, current: dict | None,
-             stored: Sequence[dict]) -> dict:
-    """What both reports show, as plain values."""
+             stored: Sequence[dict], paper: dict | None) -> dict:
+    """What both reports show, as plain values (paper: the section of
+    analysis/paper_repro.py with its figures made ready by the caller, or None)."""
     counts = totals(checks)
     rows = table_rows(checks)
     return {
@@ -475,6 +481,9 @@ def _context(checks: pd.DataFrame, meta: dict[str, str] | None, current: dict | 
         "verdict_class": "fail" if counts[1] else ("contradicted" if counts[3] else "pass"),
         "ran_sweep": bool(current),
         "no_sweep_text": NO_SWEEP_TEXT,
+        "headline_scale_text": HEADLINE_SCALE_TEXT,
+        "paper": paper,
+        "paper_missing": PAPER_MISSING_TEXT,
         "sections": headline.sections(headline_sources(current, stored)),
         "no_stored_text": NO_STORED_TEXT,
         "accuracy_text": ACCURACY_TEXT,
@@ -491,14 +500,17 @@ def _read_note(path: Path) -> str:
 def markdown_context(checks: pd.DataFrame, meta: dict[str, str] | None = None,
                      figures: Iterable[Path] = (), out_dir: str | os.PathLike = ".",
                      notes: Iterable[Path] = (), current: dict | None = None,
-                     stored: Sequence[dict] = (), accuracy: Sequence[Path] = ()) -> dict:
-    """The values of MARKDOWN_TEMPLATE; figures linked relative to out_dir."""
+                     stored: Sequence[dict] = (), accuracy: Sequence[Path] = (),
+                     paper: dict | None = None) -> dict:
+    """The values of MARKDOWN_TEMPLATE; figures linked relative to out_dir (paper:
+    paper_repro.build()'s values)."""
 
     def linked(figure: Path) -> dict:
         link = os.path.relpath(figure, out_dir).replace(os.sep, "/")
         return {"caption": figure_caption(figure), "link": _md_link(link)}
 
-    return {**_context(checks, meta, current, stored),
+    section = paper_repro.with_figures(paper, lambda f: {"link": linked(f)["link"]}) if paper else None
+    return {**_context(checks, meta, current, stored, section),
             "accuracy": [linked(f) for f in accuracy],
             "figures": [linked(f) for f in figures],
             "notes": [_read_note(n).strip() for n in notes]}
@@ -507,14 +519,16 @@ def markdown_context(checks: pd.DataFrame, meta: dict[str, str] | None = None,
 def html_context(checks: pd.DataFrame, meta: dict[str, str] | None = None,
                  figures: Iterable[Path] = (), notes: Iterable[Path] = (),
                  current: dict | None = None, stored: Sequence[dict] = (),
-                 accuracy: Sequence[Path] = ()) -> dict:
-    """The values of HTML_TEMPLATE; figures as base64."""
+                 accuracy: Sequence[Path] = (), paper: dict | None = None) -> dict:
+    """The values of HTML_TEMPLATE; figures as base64 (paper: paper_repro.build()'s
+    values)."""
 
     def embedded(figure: Path) -> dict:
         return {"caption": figure_caption(figure),
                 "data": base64.b64encode(figure.read_bytes()).decode("ascii")}
 
-    return {**_context(checks, meta, current, stored),
+    section = paper_repro.with_figures(paper, lambda f: {"data": embedded(f)["data"]}) if paper else None
+    return {**_context(checks, meta, current, stored, section),
             "accuracy": [embedded(f) for f in accuracy],
             "figures": [embedded(f) for f in figures],
             "notes": [parse_note(_read_note(n)) for n in notes]}
@@ -523,19 +537,20 @@ def html_context(checks: pd.DataFrame, meta: dict[str, str] | None = None,
 def render_markdown(checks: pd.DataFrame, meta: dict[str, str] | None = None,
                     figures: Iterable[Path] = (), out_dir: str | os.PathLike = ".",
                     notes: Iterable[Path] = (), current: dict | None = None,
-                    stored: Sequence[dict] = (), accuracy: Sequence[Path] = ()) -> str:
+                    stored: Sequence[dict] = (), accuracy: Sequence[Path] = (),
+                    paper: dict | None = None) -> str:
     """Markdown report; figures are linked relative to out_dir (where report.md goes)."""
     return render_template(MARKDOWN_TEMPLATE, markdown_context(
-        checks, meta, figures, out_dir, notes, current, stored, accuracy))
+        checks, meta, figures, out_dir, notes, current, stored, accuracy, paper))
 
 
 def render_html(checks: pd.DataFrame, meta: dict[str, str] | None = None,
                 figures: Iterable[Path] = (), notes: Iterable[Path] = (),
                 current: dict | None = None, stored: Sequence[dict] = (),
-                accuracy: Sequence[Path] = ()) -> str:
+                accuracy: Sequence[Path] = (), paper: dict | None = None) -> str:
     """Self-contained HTML report (inline CSS, figures embedded as base64)."""
     return render_template(HTML_TEMPLATE, html_context(
-        checks, meta, figures, notes, current, stored, accuracy))
+        checks, meta, figures, notes, current, stored, accuracy, paper))
 
 
 # --------------------------------------------------------------------------- output
@@ -567,6 +582,12 @@ def _parse_args(argv: Sequence[str] | None) -> argparse.Namespace:
     parser.add_argument("--results", metavar="DIR", default=str(RESULTS_DIR),
                         help="stored headline results of larger tiers (default: validation/results); "
                              "OUT/trends.json, when a sweep of this run wrote it, comes first")
+    parser.add_argument("--paper-plan", metavar="FILE", default=str(paper_repro.DEFAULT_PLAN),
+                        help="the campaign plan of the paper's study (default: "
+                             "validation/campaigns/paper.json), for 'The paper, figure by figure'")
+    parser.add_argument("--paper-results", metavar="DIR",
+                        help="its stored runs (default: RESULTS/<plan name>, validation/results/paper); "
+                             "the section's sweeps and figures go to OUT/" + PAPER_DIR)
     parser.add_argument("--build-dir", metavar="DIR",
                         default=None,
                         help="build folder to read the engine version from, relative to the "
@@ -624,9 +645,19 @@ def main(argv: Sequence[str] | None = None) -> int:
         return no_report(f"cannot read {out_dir / 'trends.json'}: {problem}", 2)
 
     accuracy = accuracy_figures(Path(args.results))
+    plan = Path(args.paper_plan)
+    paper_results = Path(args.paper_results) if args.paper_results else Path(args.results) / plan.stem
+    try:
+        paper = paper_repro.build(plan, paper_results, out_dir / PAPER_DIR,
+                                  headline_sources(current, stored))
+    except paper_repro.PaperReproError as problem:
+        return no_report(str(problem), 2)
+    except OSError as error:
+        return no_report(f"cannot write the paper-scale section in {out_dir / PAPER_DIR}: {error}", 2)
     try:  # both rendered before either is written
-        markdown = render_markdown(checks, meta, figures, out_dir, notes, current, stored, accuracy)
-        page = render_html(checks, meta, figures, notes, current, stored, accuracy)
+        markdown = render_markdown(checks, meta, figures, out_dir, notes, current, stored, accuracy,
+                                   paper)
+        page = render_html(checks, meta, figures, notes, current, stored, accuracy, paper)
     except jinja2.TemplateNotFound as missing:  # an OSError: before the OSError below
         return no_report(f"report template not found: {Path(TEMPLATES_DIR) / missing.name}", 2)
     except jinja2.TemplateSyntaxError as problem:

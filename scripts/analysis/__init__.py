@@ -10,6 +10,9 @@ Modules:
 - headline: the paper's headline trends as a stored record (validation/results/) and
           the report's first section
 - run_plot: the figure and summary of one run folder (scripts/plot-run)
+- paper_repro, paper_figures, paper_repro_cli: the paper, figure by figure, from the
+          campaign's stored runs (scripts/paper-repro, the report's section;
+          docs/paper-reproduction.md)
 
 Run with Debian's interpreter, /usr/bin/python3.
 """

@@ -154,7 +154,7 @@ def _why(row: dict) -> str:
 
 
 def table_rows(record: dict) -> list[dict]:
-    return [{"statement": r["statement"], "check": r.get("check", ""), "measured": _measured(r),
+    return [{"id": r["id"], "statement": r["statement"], "check": r.get("check", ""), "measured": _measured(r),
              "fit": _fit(r), "result": STATUS_TEXT[r["status"]], "why": _why(r)}
             for r in record["rows"]]
 

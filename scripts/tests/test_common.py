@@ -250,14 +250,15 @@ def test_git_commit_and_dirty_state(tmp_path):
 def _python_sources():
     files = [p for p in SCRIPTS.rglob("*.py") if "tests" not in p.parts]
     files += [SCRIPTS / "trends", SCRIPTS / "compare-methods", SCRIPTS / "compare-settings", SCRIPTS / "accuracy-pareto", SCRIPTS / "method-cost",
-              SCRIPTS / "plot-run", SCRIPTS / "bench-cycled", SCRIPTS / "campaign", REPO / "regression" / "run"]
+              SCRIPTS / "plot-run", SCRIPTS / "bench-cycled", SCRIPTS / "campaign", SCRIPTS / "paper-repro",
+              REPO / "regression" / "run"]
     files += list((REPO / "regression").glob("*.py")) + list((REPO / "validation").rglob("*.py"))
     return files
 
 
 def test_shared_helpers_are_defined_only_in_common():
     pattern = re.compile(r"^\s*def (write_atomic|write_csv_atomic|save_figure_atomic|save_figure|"
-                         r"figure_caption|strip_json_comments|strip_comments|plain|dumps)\b|"
+                         r"figure_caption|strip_json_comments|strip_comments|plain|dumps|md_cell)\b|"
                          r"mkstemp|\.partial\"|importlib", re.M)
     offenders = []
     for path in _python_sources():
@@ -272,6 +273,7 @@ def test_shared_helpers_are_defined_only_in_common():
 @pytest.mark.parametrize("command", [
     ["scripts/trends", "--help"],
     ["scripts/campaign", "--help"],
+    ["scripts/paper-repro", "--help"],
     ["scripts/compare-methods", "--help"],
     ["scripts/report.py", "--help"],
     ["scripts/liggghts/parse.py", "--help"],

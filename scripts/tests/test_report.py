@@ -49,7 +49,11 @@ def write_checks(folder: Path, records, name="validation_case-123.jsonl") -> Pat
 
 
 def run(checks: Path, out: Path, *extra: str):
-    """report.main in-process; returns its exit status (output via capsys)."""
+    """report.main in-process; returns its exit status (output via capsys). The paper-scale
+    section reads an empty folder unless --paper-results is given: these tests do not
+    depend on what the campaign has stored."""
+    if "--paper-results" not in extra:
+        extra = (*extra, "--paper-results", str(out.parent / "no-paper-runs"))
     return report.main(["--checks", str(checks), "--out", str(out), "--no-color", *extra])
 
 
@@ -377,7 +381,7 @@ def _templates_copy(tmp_path, monkeypatch) -> Path:
 
 
 @pytest.mark.parametrize("name", ["report.md.j2", "report.html.j2", "report.css", "headline.md.j2",
-                                  "headline.html.j2"])
+                                  "headline.html.j2", "paper_repro.md.j2", "paper_repro.html.j2"])
 def test_a_missing_template_is_named_and_no_report_is_written(folders, tmp_path, monkeypatch, capsys,
                                                               name):
     checks, out = folders
@@ -508,3 +512,72 @@ def test_the_summary_counts_checks_per_area_and_the_contents_link_every_section(
     page = (out / "report.html").read_text(encoding="utf-8")
     for anchor in ("summary", "headline", "checks"):
         assert f'href="#{anchor}"' in page and f'id="{anchor}"' in page
+
+
+# --------------------------------------------------------------------------- the paper, figure by figure
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+import paper_runs  # noqa: E402  (synthetic stored runs of the paper campaign)
+
+
+def _section(markdown: str) -> str:
+    return markdown.split("## The paper, figure by figure", 1)[1].split("## The paper's headline", 1)[0]
+
+
+def test_with_no_paper_run_every_statement_says_not_yet_run_and_the_headline_says_reduced_scale(folders):
+    checks, out = folders
+    write_checks(checks, [MIXED[0]])
+    assert run(checks, out) == 0
+    markdown = (out / "report.md").read_text(encoding="utf-8")
+    assert markdown.index("## Summary") < markdown.index("## The paper, figure by figure") \
+        < markdown.index("## The paper's headline trends, reduced scale")
+    section = _section(markdown)
+    statements = len(report.paper_repro.STATEMENTS)
+    # The overview and each statement say it, Table 1 (the plan's scene) aside.
+    assert section.count("**NOT YET RUN at the paper's scale**") == 2 * (statements - 1)
+    assert "**0 of 45** runs" in section and "Still to run: 45 run(s)" in section
+    assert "REDUCED SCALE, not the paper's verdict" in section  # the stored standard tier, beside
+    headline = markdown.split("## The paper's headline trends, reduced scale", 1)[1]
+    assert report.HEADLINE_SCALE_TEXT in headline
+    page = (out / "report.html").read_text(encoding="utf-8")
+    assert '<a href="#paper">The paper, figure by figure</a>' in page and '<h2 id="paper">' in page
+    assert page.count('<tr class="notrun">') == 2 * (statements - 1)
+
+
+def test_the_paper_section_shows_the_stored_runs_verdicts_and_figures(folders, tmp_path):
+    checks, out = folders
+    write_checks(checks, [MIXED[0]])
+    results = tmp_path / "paper-runs"
+    paper_runs.store_halving(results)
+    assert run(checks, out, "--paper-results", str(results)) == 0  # the run's own checks decide
+    section = _section((out / "report.md").read_text(encoding="utf-8"))
+    assert "**PASSED (1 passed; provisional: 4 of 10 runs)**" in section
+    link = "paper-repro/figures/paper_halving_halving.png"
+    assert f"]({link})" in section and (out / link).is_file()
+    page = (out / "report.html").read_text(encoding="utf-8")
+    assert base64.b64encode((out / link).read_bytes()).decode("ascii") in page
+    # The paper's figures stay out of the report's Figures section (OUT/figures).
+    assert not (out / "figures").exists()
+
+
+def test_a_paper_scale_contradiction_is_shown_as_one(folders, tmp_path):
+    checks, out = folders
+    write_checks(checks, [MIXED[0]])
+    results = tmp_path / "paper-runs"
+    paper_runs.store_halving(results, p6=(0.9, 0.91))
+    assert run(checks, out, "--paper-results", str(results)) == 0
+    halving = _section((out / "report.md").read_text(encoding="utf-8")).split("### Results text")[1]
+    halving = halving.split("### ")[0]
+    assert "**CONTRADICTED (1 contradicted; provisional: 4 of 10 runs)**" in halving
+    assert "PASS" not in halving
+
+
+def test_a_bad_paper_plan_names_the_file_and_no_report_is_written(folders, tmp_path, capsys):
+    checks, out = folders
+    write_checks(checks, [MIXED[0]])
+    plan = tmp_path / "paper.json"
+    plan.write_text('{"scene": "none.json"}', encoding="utf-8")
+    assert run(checks, out, "--paper-plan", str(plan)) == 2
+    err = capsys.readouterr().err
+    assert f"{plan}: field 'seeds': missing" in err and "no report written" in err
+    assert not (out / "report.md").exists()

@@ -1,7 +1,9 @@
 """scripts/report.py's report.html in a real headless Chromium: what a reader sees.
 
 A report is made from synthetic check lines of every area (passed, failed, not resolved,
-one non-finite), a figure, a note and the stored results of validation/results/, as
+one non-finite), a figure, a note, the stored results of validation/results/ and
+synthetic stored runs of the paper campaign (tests/paper_runs.py: 2 realizations at 0 and
+6 deg, so that "The paper, figure by figure" has verdicts and figures), as
 scripts/validate makes it. Chromium then takes a 1280x900 screenshot of report.html and
 dumps the DOM of a copy that measures itself after loading (layout, links, images,
 fonts); the tests assert on those measurements and on the screenshot's pixels.
@@ -25,6 +27,8 @@ import pytest
 
 SCRIPTS = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(SCRIPTS))
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+import paper_runs  # noqa: E402
 from common.figures import figure_caption, save_figure  # noqa: E402
 from common.paths import REPO_ROOT  # noqa: E402
 
@@ -227,8 +231,11 @@ def page(tmp_path_factory):
     plt.close(figure)
     (out / "notes").mkdir()
     (out / "notes" / "liggghts.md").write_text(NOTE, encoding="utf-8")
+    paper_results = root / "paper-runs"
+    paper_runs.store_halving(paper_results)
     done = subprocess.run([PYTHON, str(REPORT), "--checks", str(checks), "--out", str(out),
-                           "--tier", "quick", "--build-dir", str(build), "--no-color"],
+                           "--tier", "quick", "--build-dir", str(build), "--no-color",
+                           "--paper-results", str(paper_results)],
                           capture_output=True, text=True, timeout=120)
     assert done.returncode == 1, done.stderr  # two checks fail
     html = out / "report.html"
@@ -265,8 +272,8 @@ def test_the_first_viewport_shows_the_title_the_verdict_and_the_whole_summary(pa
 def test_every_contents_link_reaches_a_shown_section_in_order(page):
     links = page["measured"]["links"]
     texts = [link["text"] for link in links]
-    assert texts == ["Summary", "The paper's headline trends", "What accuracy costs",
-                     "Checks of this run", "Figures", "Notes"]
+    assert texts == ["Summary", "The paper, figure by figure", "The paper's headline trends, reduced scale",
+                     "What accuracy costs", "Checks of this run", "Figures", "Notes"]
     for link in links:
         assert link["target"] is not None, f"{link['href']}: no element has this id"
         assert link["target"]["height"] > 0, f"{link['href']}: its target is not shown"
@@ -277,7 +284,11 @@ def test_every_contents_link_reaches_a_shown_section_in_order(page):
 def test_every_image_loaded_and_fits_the_window(page):
     images = page["measured"]["images"]
     stored = sorted((STORED / "accuracy").glob("*.png"))
-    assert len(images) == len(stored) + 1  # the accuracy figures and this run's figure
+    paper = sorted((page["out"] / "paper-repro" / "figures").glob("*.png"))
+    assert len(paper) >= 8  # the statements' figures drawn from the synthetic campaign runs
+    stored += paper
+    # the accuracy figures, the paper's figures and this run's figure
+    assert len(images) == len(stored) + 1
     for image in images:
         assert image["complete"] and image["naturalWidth"] > 0, f"not loaded: {image['alt']}"
         assert 0 < image["box"]["width"] and image["box"]["right"] <= WIDTH, image

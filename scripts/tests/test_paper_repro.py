@@ -1,0 +1,268 @@
+"""Tests of "The paper, figure by figure" (scripts/analysis/paper_repro.py, scripts/paper-repro)
+on synthetic stored runs of the paper campaign, written in the campaign's format
+(tests/paper_runs.py).
+
+Run with Debian's interpreter: /usr/bin/python3 -m pytest -q scripts/tests/test_paper_repro.py
+"""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+TESTS = Path(__file__).resolve().parent
+sys.path.insert(0, str(TESTS))
+import paper_runs  # noqa: E402  (puts scripts/ on the path)
+
+from analysis import paper_repro, paper_repro_cli, trends  # noqa: E402
+from analysis.inputs import load_sweep  # noqa: E402
+from common import templates  # noqa: E402
+from common.paths import REPO_ROOT  # noqa: E402
+
+PYTHON = "/usr/bin/python3"
+ENTRY = REPO_ROOT / "scripts" / "paper-repro"
+DOC = REPO_ROOT / "docs" / "paper-reproduction.md"
+#: A stored headline record of a reduced scale, as validation/results/*.json hold them.
+RECORD = {"version": 2, "tier": "standard", "generated": "2026-11-24 08:49:34 UTC",
+          "engine_commit": "3c040d3", "command": "scripts/validate --tier standard",
+          "scale": "200 polyhedra", "counts": {},
+          "rows": [{"id": "pmax_ratio_6_0", "statement": "6 deg halves", "status": "passed",
+                    "check": "P_max(6 deg)/P_max(0 deg)", "measured": 0.52, "detail": "",
+                    "reason": "", "fit": None}]}
+
+
+def statement(data: dict, sid: str) -> dict:
+    return next(s for s in data["statements"] if s["id"] == sid)
+
+
+def markdown(data: dict) -> str:
+    return templates.render("paper_repro.md.j2", {
+        "paper": paper_repro.with_figures(data, lambda path: {"link": path.name}), "paper_missing": ""})
+
+
+def test_with_no_stored_run_every_statement_is_not_yet_run_and_names_what_is_left(tmp_path):
+    data = paper_repro.build(results=tmp_path / "none", out=tmp_path / "out",
+                             reduced=[("Stored", RECORD)])
+    assert (data["stored"], data["planned"]) == (0, 45)
+    assert data["todo"].startswith("45 run(s), about 81.0 CPU h")
+    for s in data["statements"]:
+        assert s["figures"] == [] and s["checks"] == []
+        if s["id"] == "table1":
+            continue
+        assert s["verdict"] == paper_repro.NOT_RUN, s["figure"]
+        assert s["runs"].startswith("0 of ")
+        assert "seeds 1-5" in s["missing"]
+    assert statement(data, "halving")["missing"].startswith(
+        "10 run(s): theta0_ratio10 seeds 1-5; theta6_ratio10 seeds 1-5")
+    # The reduced-scale record is beside the verdict, labelled, never the verdict itself.
+    halving = statement(data, "halving")
+    assert halving["reduced"] and "REDUCED SCALE" in halving["reduced"][0]["label"]
+    assert halving["reduced"][0]["result"] == "PASS" and halving["verdict"] == paper_repro.NOT_RUN
+    text = markdown(data)
+    assert text.count(f"**{paper_repro.NOT_RUN}**") == 2 * (len(paper_repro.STATEMENTS) - 1)
+    assert not (tmp_path / "out" / "figures").exists() or not any((tmp_path / "out" / "figures").iterdir())
+
+
+def test_table1_is_compared_with_the_scene_of_every_planned_run(tmp_path):
+    data = paper_repro.build(results=tmp_path / "none", out=tmp_path / "out")
+    table = statement(data, "table1")
+    assert table["verdict"].startswith("MATCHES") and table["verdict_class"] == "pass"
+    assert {p["symbol"]: p["ours"] for p in table["params"]}["N_p"] == "2000"
+    # A plan whose bed differs from Table 1 is said to differ, by symbol.
+    plan = json.loads(paper_runs.PAPER_PLAN.read_text())
+    plan["scene"] = str(paper_runs.PAPER_PLAN.parent / plan["scene"])
+    plan["set"] = {"particles.generate.count": 200}
+    other = tmp_path / "small.json"
+    other.write_text(json.dumps(plan))
+    table = statement(paper_repro.build(other, tmp_path / "none", tmp_path / "out2"), "table1")
+    assert table["verdict"] == "DIFFERS: N_p" and table["verdict_class"] == "fail"
+
+
+def _halving_by_hand(results: Path, tmp_path: Path) -> trends.CheckResult:
+    """The same runs as a plain sweep folder (summary.csv, runs/<id>/cycles.csv), judged by
+    trends.analyse at the paper tier: what scripts/trends says of them."""
+    sweep = tmp_path / "by_hand"
+    lines = ["run,container.opening_angle_deg,seed,P_max,status"]
+    run = 0
+    for point, angle in (("theta0_ratio10", 0), ("theta6_ratio10", 6)):
+        for folder in sorted((results / point).iterdir()):
+            summary = json.loads((folder / "run.json").read_text())["summary"]
+            lines.append(f"{run},{angle},{folder.name[4:]},{summary['P_max']!r},completed")
+            (sweep / "runs" / str(run)).mkdir(parents=True)
+            for name in ("cycles.csv", "run.json"):
+                (sweep / "runs" / str(run) / name).write_bytes((folder / name).read_bytes())
+            run += 1
+    (sweep / "summary.csv").write_text("\n".join(lines) + "\n")
+    a = trends.analyse(load_sweep(sweep), "angle", trends.PAPER_TIER)
+    return next(r for r in a.results if r.check_id == "pmax_ratio_6_0")
+
+
+def test_the_halving_shows_the_verdict_of_the_real_check(tmp_path):
+    results = tmp_path / "results"
+    paper_runs.store_halving(results)
+    data = paper_repro.build(results=results, out=tmp_path / "out", reduced=[("Stored", RECORD)])
+    halving = statement(data, "halving")
+    expected = _halving_by_hand(results, tmp_path)
+    assert expected.status == "passed"  # the synthetic cone halves the peak
+    [row] = halving["checks"]
+    assert row["id"] == "pmax_ratio_6_0" and row["result"] == "PASS"
+    assert row["measured"] == f"{expected.measured:.4g}" and row["tolerance"] == expected.tolerance
+    assert halving["verdict"] == "PASSED (1 passed; provisional: 4 of 10 runs)"
+    assert halving["runs"] == "4 of 10"
+    assert halving["missing"].startswith("6 run(s): theta0_ratio10 seeds 3-5; theta6_ratio10 seeds 3-5")
+    assert "theta0_ratio10 2 of 5, theta6_ratio10 2 of 5" in halving["scale"]
+    assert data["stored"] == 4 and data["engines"] == ["0123456789"]
+    # Its figure, with its caption beside it.
+    [figure] = halving["figures"]
+    assert Path(figure).is_file() and Path(figure).with_suffix(".txt").is_file()
+    assert "pmax_ratio_6_0" in Path(figure).with_suffix(".txt").read_text()
+
+
+def test_every_statement_with_runs_has_its_figures(tmp_path):
+    results = tmp_path / "results"
+    paper_runs.store_halving(results)
+    data = paper_repro.build(results=results, out=tmp_path / "out")
+    names = {s["id"]: [Path(f).name for f in s["figures"]] for s in data["statements"]}
+    assert names["fig3a"] == ["paper_angle_peaks.png"]
+    assert names["fig3b"] == ["trends_angle_angle_P_max.png"]
+    assert names["fig6"] == ["trends_angle_angle_displacement.png"]
+    assert names["fig7a"] == ["trends_angle_angle_W_rms.png"]
+    assert names["fig5"] == []  # the stored runs hold no stage_fields.csv: said, not drawn
+    assert "does not store stage_fields.csv" in statement(data, "fig5")["gap"]
+    for figures in names.values():
+        for name in figures:
+            assert (tmp_path / "out" / "figures" / name).with_suffix(".txt").is_file()
+    # A second build with no run removes the figures of the first.
+    paper_repro.build(results=tmp_path / "none", out=tmp_path / "out")
+    assert not list((tmp_path / "out" / "figures").glob("*.png"))
+
+
+def test_a_contradiction_shows_contradicted_never_passed(tmp_path):
+    results = tmp_path / "results"
+    paper_runs.store_halving(results, p6=(0.9, 0.91))  # the cone lowers the peak by a tenth
+    data = paper_repro.build(results=results, out=tmp_path / "out")
+    halving = statement(data, "halving")
+    assert _halving_by_hand(results, tmp_path).status == "failed"  # the paper tier's word for it
+    [row] = halving["checks"]
+    assert row["result"] == "CONTRADICTED" and row["result_class"] == "contradicted"
+    assert "not by a half" in row["why"]
+    assert halving["verdict"].startswith("CONTRADICTED") and halving["verdict_class"] == "contradicted"
+    section = markdown(data).split("### Results text")[1].split("### Fig. 3c")[0]
+    assert "**CONTRADICTED**" in section and "PASS" not in section
+
+
+def test_a_value_that_is_not_a_number_is_a_failure_not_a_contradiction():
+    assert paper_repro.result_text("failed", float("nan")) == "FAIL"
+    assert paper_repro.result_text("failed", None) == "FAIL"
+    assert paper_repro.result_text("failed", 0.9) == "CONTRADICTED"
+    assert paper_repro.result_text("contradicted", 0.9) == "CONTRADICTED"
+    assert paper_repro.result_text("unresolved", 0.9) == "NOT RESOLVED"
+
+
+def test_a_stored_run_of_another_scene_is_not_used_and_is_named(tmp_path):
+    results = tmp_path / "results"
+    plan = paper_runs.load_plan(paper_runs.PAPER_PLAN)
+    run = next(r for r in plan.runs if r.label == "theta0_ratio10/seed1")
+    scene = plan.scene_for(run)
+    scene["thermal"] = {**scene["thermal"], "cycles": 10}
+    paper_runs.store_run(results, "theta0_ratio10", 1, 1.0, scene=scene)
+    (results / "theta6_ratio10" / "seed1").mkdir(parents=True)
+    (results / "theta6_ratio10" / "seed1" / "run.json").write_text("{}")  # no provenance yet
+    data = paper_repro.build(results=results, out=tmp_path / "out")
+    assert data["stored"] == 0
+    assert statement(data, "halving")["verdict"] == paper_repro.NOT_RUN
+    refused = "\n".join(data["refused"])
+    assert "theta0_ratio10/seed1: field 'scene' of " in refused and "run.json" in refused
+    assert "theta6_ratio10/seed1: no provenance.json" in refused
+
+
+def test_a_plan_without_the_papers_parts_is_refused_naming_the_file(tmp_path):
+    plan = json.loads(paper_runs.PAPER_PLAN.read_text())
+    plan["scene"] = str(paper_runs.PAPER_PLAN.parent / plan["scene"])
+    plan["parts"] = [p for p in plan["parts"] if p["name"] != "halving"]
+    path = tmp_path / "cut.json"
+    path.write_text(json.dumps(plan))
+    with pytest.raises(paper_repro.PaperReproError, match=r"cut\.json: field 'parts': no part named 'halving'"):
+        paper_repro.build(path, tmp_path / "none", tmp_path / "out")
+
+
+# --------------------------------------------------------------------------- command line
+
+DOC_TEXT = f"""# Hand-written title
+
+Framing kept as it is.
+
+{paper_repro_cli.BEGIN}
+old block
+{paper_repro_cli.END}
+
+Hand-written end.
+"""
+
+
+def test_the_command_writes_its_files_and_rewrites_only_the_docs_block(tmp_path):
+    results, out, doc = tmp_path / "results", tmp_path / "out", tmp_path / "doc.md"
+    paper_runs.store_halving(results)
+    doc.write_text(DOC_TEXT)
+    done = subprocess.run([PYTHON, str(ENTRY), "--results", str(results), "--out", str(out),
+                           "--records", str(tmp_path / "no-records"), "--doc", str(doc)],
+                          capture_output=True, text=True, cwd=tmp_path, timeout=300)
+    assert done.returncode == 0, done.stderr
+    assert "Results text: PASSED (1 passed; provisional: 4 of 10 runs) [4 of 10 runs]" in done.stdout
+    assert done.stdout.splitlines()[-1].startswith("paper-repro: 4 of 45 runs stored; still to run: 41 run(s)")
+    text = doc.read_text()
+    assert text.startswith("# Hand-written title\n\nFraming kept as it is.\n") and "Hand-written end." in text
+    assert "old block" not in text and "### Results text: A 6 deg cone halves the peak pressure" in text
+    # The doc names its figures (out/ is not in the repository); the standalone file links them.
+    assert "](" not in text and "Figure (drawn from the stored runs by the report" in text
+    standalone = (out / "paper-repro.md").read_text()
+    assert "](figures/paper_halving_halving.png)" in standalone
+    assert json.loads((out / "paper-repro.json").read_text())["stored"] == 4
+
+
+def test_the_command_refuses_a_doc_without_its_block_and_a_bad_plan(tmp_path):
+    doc = tmp_path / "doc.md"
+    doc.write_text("# no block\n")
+    done = subprocess.run([PYTHON, str(ENTRY), "--results", str(tmp_path / "none"), "--out",
+                           str(tmp_path / "out"), "--doc", str(doc)], capture_output=True, text=True,
+                          timeout=300)
+    assert done.returncode == 2 and f"{doc}: no block" in done.stderr
+    assert doc.read_text() == "# no block\n"
+    bad = tmp_path / "bad.json"
+    bad.write_text('{"scene": "x.json"}')
+    done = subprocess.run([PYTHON, str(ENTRY), "--plan", str(bad), "--out", str(tmp_path / "out")],
+                          capture_output=True, text=True, timeout=300)
+    assert done.returncode == 2 and "bad.json: field 'seeds': missing" in done.stderr
+
+
+# --------------------------------------------------------------------------- the doc
+
+
+def test_the_doc_quotes_every_statement_and_has_the_generated_block():
+    text = DOC.read_text(encoding="utf-8")
+    block = text.split(paper_repro_cli.BEGIN, 1)[1].split(paper_repro_cli.END, 1)[0]
+    for s in paper_repro.STATEMENTS:
+        assert s.quote in block, s.id
+        for check_id in s.checks:
+            assert check_id in block and check_id in trends.CHECKS
+    assert "scripts/paper-repro --doc docs/paper-reproduction.md" in text
+
+
+def test_no_file_of_the_repository_points_outside_it():
+    # The project stands alone: the paper's words are quoted, not linked. (The paths are
+    # put together here so that this file does not name them itself.)
+    outside = ("/".join(("", "work", "shared")), "/".join(("..", "shared")))
+    files = subprocess.run(["git", "-C", str(REPO_ROOT), "ls-files", "--cached", "--others",
+                            "--exclude-standard"], capture_output=True, text=True, check=True).stdout
+    offenders = []
+    for name in sorted(set(files.splitlines())):
+        path = REPO_ROOT / name
+        if not path.is_file() or path.stat().st_size > 2_000_000:
+            continue
+        text = path.read_bytes().decode("utf-8", errors="ignore")
+        offenders += [f"{name}: {o}" for o in outside if o in text]
+    assert offenders == []
