@@ -20,7 +20,7 @@ from .plan import Run, same_json
 PROVENANCE = "provenance.json"
 #: The small files of a run folder worth keeping (docs/output-format.md); bodies.csv,
 #: timeseries.csv, bodies_shapes.json, vtk/ and the checkpoint are left in the work folder.
-KEEP = re.compile(r"^(run\.json|cycles\.csv|wall_profile\.csv|displacement_\d+_\d+\.csv)$")
+KEEP = re.compile(r"^(run\.json|cycles\.csv|wall_profile\.csv|stage_fields\.csv|displacement_\d+_\d+\.csv)$")
 #: A kept kind larger than this is not stored (named in the provenance instead).
 MAX_BYTES = 2_000_000
 

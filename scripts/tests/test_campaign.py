@@ -225,3 +225,11 @@ def test_commit_makes_one_commit_per_stored_run(tmp_path):
     assert "campaign one: store theta0/seed1 (engine " in log and "campaign one: store theta6/seed1" in log
     assert "other.txt" not in log
     assert "results/theta0/seed1/provenance.json" in log
+
+
+def test_the_stage_fields_of_figs_5_and_6_are_kept_and_the_bulky_files_are_not():
+    from campaign_lib import store
+    kept = ["run.json", "cycles.csv", "wall_profile.csv", "stage_fields.csv", "displacement_10_20.csv"]
+    assert all(store.KEEP.match(name) for name in kept)
+    assert not any(store.KEEP.match(name) for name in ["timeseries.csv", "bodies.csv", "bodies_shapes.json",
+                                                       "checkpoint.state", "stage_fields.csv.partial"])
