@@ -407,7 +407,8 @@ def _missing(measures: list[dict]) -> str:
     errors = sorted({m["error"] for m in measures if "error" in m})
     if errors:
         return "; ".join(errors)
-    return f"no {STAGE_FILE} in the run folders (the scene's outputs.displacement.stages is off)"
+    return (f"no {STAGE_FILE} in the run folders (the scene's outputs.displacement.stages is off, "
+            f"or the runs were stored without it)")
 
 
 def _direction_checks(a, points, trends) -> list:

@@ -54,6 +54,27 @@ StateFile sample() {
   p.cache.valid = false;
   p.cache.kind = PlaneFeature::Axis;
   s.planes.push_back(p);
+  KeptManifold m;
+  m.a = 0;
+  m.b = 1;
+  m.pose.rotation << 0.0, -1.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0 + 1e-16;
+  m.pose.offset = Vec3(0.1 + 0.2, -1e-300, 2.0);
+  m.pose.scale_a = 1.0 + 2e-16;
+  m.pose.scale_b = 0.999;
+  m.gap_bound = -0.0;
+  m.count = 2;
+  m.normal_on_b = true;
+  m.normal = Vec3(0.0, 0.6, 0.8);
+  m.on_a = {Vec3(1, 2, 3), Vec3(-1e-17, 0.5, 0.25), Vec3::Zero(), Vec3::Zero()};
+  m.on_b = {Vec3(3, 2, 1), Vec3(1.0 / 3.0, 0.5, -0.25), Vec3::Zero(), Vec3::Zero()};
+  m.feature_a = {(2 << 24) | 5, 7, 0, 0};
+  m.feature_b = {(1 << 24) | 2, (2 << 24) | 1, 0, 0};
+  s.manifolds.push_back(m);
+  m.b = 2;
+  m.count = 0;
+  m.normal_on_b = false;
+  m.gap_bound = 0.0625;
+  s.manifolds.push_back(m);
   return f;
 }
 
@@ -87,6 +108,27 @@ void expect_bit_equal(const State& a, const State& b) {
     EXPECT_EQ(c.simplex_count, d.simplex_count);
     EXPECT_EQ(c.simplex, d.simplex);
   }
+  ASSERT_EQ(a.manifolds.size(), b.manifolds.size());
+  for (std::size_t i = 0; i < a.manifolds.size(); ++i) {
+    const KeptManifold &m = a.manifolds[i], &n = b.manifolds[i];
+    EXPECT_EQ(m.a, n.a);
+    EXPECT_EQ(m.b, n.b);
+    for (int k = 0; k < 9; ++k) EXPECT_EQ(bits(m.pose.rotation.data()[k]), bits(n.pose.rotation.data()[k]));
+    for (int k = 0; k < 3; ++k) EXPECT_EQ(bits(m.pose.offset[k]), bits(n.pose.offset[k]));
+    EXPECT_EQ(bits(m.pose.scale_a), bits(n.pose.scale_a));
+    EXPECT_EQ(bits(m.pose.scale_b), bits(n.pose.scale_b));
+    EXPECT_EQ(bits(m.gap_bound), bits(n.gap_bound));
+    EXPECT_EQ(m.count, n.count);
+    EXPECT_EQ(m.normal_on_b, n.normal_on_b);
+    for (int k = 0; k < 3; ++k) EXPECT_EQ(bits(m.normal[k]), bits(n.normal[k]));
+    for (std::size_t p = 0; p < 4; ++p)
+      for (int k = 0; k < 3; ++k) {
+        EXPECT_EQ(bits(m.on_a[p][k]), bits(n.on_a[p][k]));
+        EXPECT_EQ(bits(m.on_b[p][k]), bits(n.on_b[p][k]));
+      }
+    EXPECT_EQ(m.feature_a, n.feature_a);
+    EXPECT_EQ(m.feature_b, n.feature_b);
+  }
 }
 
 fs::path scratch() {
@@ -115,15 +157,39 @@ TEST(StateFile, LayoutIsFixedLittleEndian) {
   const std::string b = encode_state_file(f);
   const std::string meta = f.meta.dump();
   EXPECT_EQ(b.substr(0, 8), "RATCHETS");
-  EXPECT_EQ(b.substr(8, 4), std::string("\x01\x00\x00\x00", 4));                       // version 1
+  EXPECT_EQ(b.substr(8, 4), std::string("\x02\x00\x00\x00", 4));                       // version 2
   EXPECT_EQ(static_cast<unsigned char>(b[12]), meta.size());                            // meta length
   EXPECT_EQ(b.substr(16, 8), std::string("\x03\x00\x00\x00\x00\x00\x00\x00", 8));     // 3 bodies
   EXPECT_EQ(b.substr(24, 16), f.key);
   EXPECT_EQ(b.substr(40, meta.size()), meta);
   // step (int64 LE) right after the metadata: 123456789012 = 0x1CBE991A14.
   EXPECT_EQ(b.substr(40 + meta.size(), 8), std::string("\x14\x1a\x99\xbe\x1c\x00\x00\x00", 8));
-  const std::size_t expected = 40 + meta.size() + 8 + 4 * 8 + 3 * 13 * 8 + 8 + 3 * 40 + 8 + 2 * 80 + 8;
+  const std::size_t expected = 40 + meta.size() + 8 + 4 * 8 + 3 * 13 * 8 + 8 + 3 * 40 + 8 + 2 * 80 + 8 + 2 * 384 + 8;
   EXPECT_EQ(b.size(), expected);
+}
+
+// FNV-1a over the bytes, the file's checksum (docs/output-format.md, "State files").
+std::uint64_t checksum(const std::string& b) {
+  std::uint64_t h = 1469598103934665603ull;
+  for (char c : b) {
+    h ^= static_cast<unsigned char>(c);
+    h *= 1099511628211ull;
+  }
+  return h;
+}
+
+// Version 1 had no kept manifolds: its files (packings made before them) still load.
+TEST(StateFile, AVersionOneFileReadsWithoutManifolds) {
+  StateFile f = sample();
+  f.state.manifolds.clear();
+  std::string b = encode_state_file(f);
+  b.resize(b.size() - 16);  // drop the checksum and the manifold count (0)
+  b[8] = 1;
+  const std::uint64_t h = checksum(b);
+  for (int k = 0; k < 8; ++k) b.push_back(static_cast<char>((h >> (8 * k)) & 0xff));
+  const StateFile g = decode_state_file(b, "old.state");
+  expect_bit_equal(f.state, g.state);
+  EXPECT_TRUE(g.state.manifolds.empty());
 }
 
 TEST(StateFile, EveryTruncationIsRefusedWhole) {
@@ -161,12 +227,12 @@ TEST(StateFile, ForeignFilesAndOtherVersionsAreNamed) {
     EXPECT_THAT(e.what(), HasSubstr("scene.json: not a ratchet state file"));
   }
   std::string b = encode_state_file(sample());
-  b[8] = 2;  // version 2
+  b[8] = 3;  // version 3
   try {
     (void)decode_state_file(b, "new.state");
     FAIL();
   } catch (const StateFileError& e) {
-    EXPECT_THAT(e.what(), HasSubstr("new.state: state file format version 2; this build reads version 1"));
+    EXPECT_THAT(e.what(), HasSubstr("new.state: state file format version 3; this build reads versions 1 to 2"));
   }
   try {
     (void)read_state_file("/nonexistent/dir/p.state");

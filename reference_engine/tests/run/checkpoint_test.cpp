@@ -192,6 +192,35 @@ TEST_P(KillAndResume, GivesTheBytesOfTheRunThatNeverStopped) {
 // cycle 0 and cycle 1.
 INSTANTIATE_TEST_SUITE_P(Checkpoint, KillAndResume, ::testing::Values(557, 2160, 2800, 3600));
 
+// With manifold reuse the kept manifolds are part of the state: a run stopped in its
+// first heating resumes to the bytes of the run that never stopped. The reuse acts
+// (pairs are replayed, and the run differs from one that rebuilds every step).
+TEST(Checkpoint, ManifoldReuseResumesToTheSameBytes) {
+  json j = bed();
+  j["solver"]["manifold_reuse"] = 0.005;
+  const SceneDef scene = build_scene(j, "bed.json");
+  const fs::path reference = fresh_dir("ratchet_checkpoint_reuse_reference"), d = fresh_dir("ratchet_checkpoint_reuse");
+  long replayed = 0;
+  run_fresh(scene, reference, [&](const World& w) { replayed += w.stats().manifolds_replayed; });
+  EXPECT_GT(replayed, 1000);
+  const fs::path rebuilt = fresh_dir("ratchet_checkpoint_rebuilt");
+  run_fresh(build_scene(bed(), "bed.json"), rebuilt);
+  EXPECT_NE(read_text(reference / "bodies.csv"), read_text(rebuilt / "bodies.csv"));
+  constexpr std::int64_t kStopAt = 2600;
+  try {
+    run_fresh(scene, d, [&](const World& w) {
+      if (w.state().step == kStopAt) request_stop(SIGTERM);
+    });
+    clear_stop_request();
+    FAIL() << "the run did not stop";
+  } catch (const RunInterrupted&) {
+    clear_stop_request();
+  }
+  EXPECT_FALSE(read_state_file((d / kCheckpointFileName).string()).state.manifolds.empty());
+  resume(d);
+  expect_same_outputs(reference, d);
+}
+
 // A run from a packing keeps the packing's record through a stop.
 TEST(Checkpoint, ARunFromAPackingResumesWithThePackingsRecord) {
   const fs::path d = fresh_dir("ratchet_checkpoint");

@@ -133,6 +133,9 @@ INSTANTIATE_TEST_SUITE_P(
         BadCase{"theta out of range", "/solver/theta", "0.2", "'solver.theta'", "[0.5, 1]"},
         BadCase{"negative compliance", "/solver/compliance", "-0.01", "'solver.compliance'", "[0, 1]"},
         BadCase{"compliance as text", "/solver/compliance", "\"0.03\"", "'solver.compliance'", "[0, 1]"},
+        BadCase{"reuse beyond the margin", "/solver/manifold_reuse", "0.06", "'solver.manifold_reuse'",
+                "[0, solver.contact_margin]"},
+        BadCase{"negative reuse", "/solver/manifold_reuse", "-0.001", "'solver.manifold_reuse'", "a length"},
         BadCase{"bad vector", "/gravity", "[0, 1]", "'gravity'", "3 finite numbers"},
         BadCase{"unknown shape", "/particles/bodies/0/shape", "\"cube\"", "particles.bodies[0].shape", "\"sphere\""},
         BadCase{"bad container type", "/container/type", "\"box\"", "'container.type'", "\"cone\" or \"planes\""},
@@ -289,6 +292,7 @@ TEST(Scene, OverridesSetNestedFieldsAndAreChecked) {
   EXPECT_DOUBLE_EQ(s.solver.compliance, 0.0);  // rigid unless a scene asks
   apply_override(j, "solver.compliance=0.03", "scene.json");
   EXPECT_DOUBLE_EQ(build_scene(j, "scene.json").solver.compliance, 0.03);
+  EXPECT_DOUBLE_EQ(s.solver.manifold_reuse, 0.0);  // rebuilt every step unless a scene asks
   EXPECT_FALSE(s.effects.friction);
   EXPECT_EQ(s.name, "renamed");
   EXPECT_THROW(apply_override(j, "solver.p_gap", "scene.json"), SceneError);

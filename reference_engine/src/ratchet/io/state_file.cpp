@@ -17,7 +17,9 @@ namespace ratchet {
 static_assert(sizeof(CommonPlaneCache) - sizeof(PlaneCertificate) == 72, "CommonPlaneCache changed: update io/state_file.cpp");
 static_assert(sizeof(KeptImpulse) == 40, "KeptImpulse changed: update io/state_file.cpp");
 static_assert(sizeof(KeptPlane) - sizeof(PlaneCertificate) == 80, "KeptPlane changed: update io/state_file.cpp");
-static_assert(sizeof(State) == 8 + 4 * 8 + 6 * sizeof(std::vector<Vec3>), "State changed: update io/state_file.cpp");
+static_assert(sizeof(State) == 8 + 4 * 8 + 7 * sizeof(std::vector<Vec3>), "State changed: update io/state_file.cpp");
+static_assert(sizeof(KeptManifold) == 2 * 4 + sizeof(PairPose) + 8 + 4 + 4 + 3 * 8 + 24 * 8 + 8 * 4,
+              "KeptManifold changed: update io/state_file.cpp");
 
 namespace {
 
@@ -27,6 +29,7 @@ constexpr std::size_t kBodyBytes = 13 * 8;     // x, v, w, q
 constexpr std::size_t kImpulseBytes = 4 * 4 + 3 * 8;
 constexpr std::size_t kPlaneBytes = 2 * 4 + 3 * 8 + 4 + 3 * 4 + 8 * 4;
 constexpr int kMaxPlaneFeature = static_cast<int>(PlaneFeature::Axis);
+constexpr std::size_t kManifoldBytes = 2 * 4 + 14 * 8 + 8 + 4 + 4 + 3 * 8 + 24 * 8 + 8 * 4;
 
 std::uint64_t fnv1a(const char* data, std::size_t n) {
   std::uint64_t h = 1469598103934665603ull;
@@ -149,6 +152,27 @@ std::string encode_state_file(const StateFile& f) {
       o.i32(pr[1]);
     }
   }
+  o.u64(s.manifolds.size());
+  for (const KeptManifold& m : s.manifolds) {
+    o.i32(m.a);
+    o.i32(m.b);
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c) o.f64(m.pose.rotation(r, c));
+    o.vec(m.pose.offset);
+    o.f64(m.pose.scale_a);
+    o.f64(m.pose.scale_b);
+    o.f64(m.gap_bound);
+    o.i32(m.count);
+    o.u8(m.normal_on_b ? 1 : 0);
+    o.u8(0);
+    o.u8(0);
+    o.u8(0);
+    o.vec(m.normal);
+    for (const Vec3& p : m.on_a) o.vec(p);
+    for (const Vec3& p : m.on_b) o.vec(p);
+    for (std::int32_t f : m.feature_a) o.i32(f);
+    for (std::int32_t f : m.feature_b) o.i32(f);
+  }
   o.u64(fnv1a(o.b.data(), o.b.size()));
   return o.b;
 }
@@ -161,9 +185,9 @@ StateFile decode_state_file(const std::string& bytes, const std::string& source)
                          " bytes; the header alone takes " + std::to_string(kHeaderBytes) + ")");
   In in{bytes, source, 8, bytes.size() - 8};
   const std::uint32_t version = in.u32();
-  if (version != kStateFileVersion)
-    throw StateFileError(source + ": state file format version " + std::to_string(version) + "; this build reads version " +
-                         std::to_string(kStateFileVersion));
+  if (version < kOldestStateFileVersion || version > kStateFileVersion)
+    throw StateFileError(source + ": state file format version " + std::to_string(version) + "; this build reads versions " +
+                         std::to_string(kOldestStateFileVersion) + " to " + std::to_string(kStateFileVersion));
   // The checksum covers every byte before it: a cut or damaged file fails here, whole.
   In tail{bytes, source, bytes.size() - 8, bytes.size()};
   if (tail.u64() != fnv1a(bytes.data(), bytes.size() - 8))
@@ -241,6 +265,35 @@ StateFile decode_state_file(const std::string& bytes, const std::string& source)
       in.corrupt("a kept plane names a body out of range or a bad simplex size");
     if (k > 0 && !(std::tie(s.planes[k - 1].a, s.planes[k - 1].b) < std::tie(p.a, p.b)))
       in.corrupt("kept planes not sorted by body pair");
+  }
+  const std::uint64_t nm = version >= 2 ? in.u64() : 0;
+  if (nm > (in.end - in.pos) / kManifoldBytes) in.corrupt(std::to_string(nm) + " kept manifolds do not fit in the file");
+  s.manifolds.resize(nm);
+  for (std::size_t k = 0; k < nm; ++k) {
+    KeptManifold& m = s.manifolds[k];
+    m.a = in.i32();
+    m.b = in.i32();
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c) m.pose.rotation(r, c) = in.f64("a kept manifold's pose");
+    m.pose.offset = in.vec("a kept manifold's pose");
+    m.pose.scale_a = in.f64("a kept manifold's pose");
+    m.pose.scale_b = in.f64("a kept manifold's pose");
+    m.gap_bound = in.f64("a kept manifold's gap bound");
+    m.count = in.i32();
+    const std::uint8_t on_b = in.u8();
+    in.u8();
+    in.u8();
+    in.u8();
+    m.normal_on_b = on_b == 1;
+    m.normal = in.vec("a kept manifold's normal");
+    for (Vec3& p : m.on_a) p = in.vec("a kept manifold point");
+    for (Vec3& p : m.on_b) p = in.vec("a kept manifold point");
+    for (std::int32_t& f : m.feature_a) f = in.i32();
+    for (std::int32_t& f : m.feature_b) f = in.i32();
+    if (!body(m.a) || !body(m.b) || m.count < 0 || m.count > 4 || on_b > 1)
+      in.corrupt("a kept manifold names a body out of range, a bad point count or an unknown flag");
+    if (k > 0 && !(std::tie(s.manifolds[k - 1].a, s.manifolds[k - 1].b) < std::tie(m.a, m.b)))
+      in.corrupt("kept manifolds not sorted by body pair");
   }
   if (in.pos != in.end) in.corrupt(std::to_string(in.end - in.pos) + " bytes left over after the state");
   return f;

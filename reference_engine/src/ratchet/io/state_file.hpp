@@ -20,7 +20,10 @@ struct StateFileError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-constexpr std::uint32_t kStateFileVersion = 1;
+// Version 2 added the kept manifolds (solver.manifold_reuse); version 1 files, which
+// have none, are still read.
+constexpr std::uint32_t kStateFileVersion = 2;
+constexpr std::uint32_t kOldestStateFileVersion = 1;
 
 struct StateFile {
   std::string key;       // at most 16 characters (a packing key: 16 hex digits)

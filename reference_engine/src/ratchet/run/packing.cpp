@@ -54,13 +54,14 @@ void differences(const json& a, const json& b, const std::string& path, std::vec
                 " in the packing's scene and " + shown(b) + " in this one");
 }
 
-// How closely the solve converges, the contact compliance and the gap relaxation: a
-// packing fixes the bed, and a run from it may vary these, so that settings are compared
-// on the same bed (the study of what accuracy costs; docs/cli.md). A compliance moves a
-// rested bed's overlaps by less than the contact margin (docs/method.md s. 5); p_gap
-// only sets how fast the overlaps left are closed.
+// How closely the solve converges, the contact compliance, the gap relaxation and the
+// manifold reuse: a packing fixes the bed, and a run from it may vary these, so that
+// settings are compared on the same bed (the study of what accuracy costs; docs/cli.md).
+// A compliance moves a rested bed's overlaps by less than the contact margin
+// (docs/method.md s. 5); p_gap only sets how fast the overlaps left are closed; manifold
+// reuse moves a gap by less than its bound (contact/manifold_reuse.hpp).
 constexpr const char* kSolveKnobs[] = {"tolerance",      "criterion",  "max_iterations", "acceleration",
-                                      "anderson_depth", "compliance", "p_gap"};
+                                      "anderson_depth", "compliance", "p_gap",          "manifold_reuse"};
 
 json without_solve_knobs(json scene) {
   if (scene.is_object() && scene.contains("solver") && scene["solver"].is_object())

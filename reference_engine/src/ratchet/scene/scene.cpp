@@ -161,7 +161,7 @@ void read_effects(const Reader& r, const json& j, Effects& e) {
 void read_solver(const Reader& r, const json& j, SolverSettings& s) {
   const std::string p = "solver";
   r.object(j, p, {"tolerance", "criterion", "max_iterations", "theta", "p_gap", "warm_start", "contact_margin", "threads",
-                  "acceleration", "anderson_depth", "compliance"});
+                  "acceleration", "anderson_depth", "compliance", "manifold_reuse"});
   s.tolerance = r.positive(j, p, "tolerance", s.tolerance);
   if (j.contains("criterion")) {
     const json& c = j.at("criterion");
@@ -182,6 +182,9 @@ void read_solver(const Reader& r, const json& j, SolverSettings& s) {
   s.compliance = r.number(j, p, "compliance", s.compliance, 0.0, 1.0, false, false, "a number in [0, 1]");
   s.warm_start = r.boolean(j, p, "warm_start", s.warm_start);
   s.contact_margin = r.positive(j, p, "contact_margin", s.contact_margin);
+  // Within the margin, a pair that was out of reach cannot come into contact unseen.
+  s.manifold_reuse = r.number(j, p, "manifold_reuse", s.manifold_reuse, 0.0, s.contact_margin, false, false,
+                              "a length in [0, solver.contact_margin]");
   s.threads = static_cast<int>(r.integer(j, p, "threads", s.threads, 0, 1024));
 }
 

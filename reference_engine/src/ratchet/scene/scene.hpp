@@ -46,6 +46,7 @@ struct SolverSettings {
   double compliance = 0.0;  // epsilon >= 0: contact compliance c = epsilon W_nn; 0 = rigid (docs/method.md s. 5)
   bool warm_start = true;
   double contact_margin = 0.05;  // contacts closer than this (length units) are detected
+  double manifold_reuse = 0.0;   // a polyhedron pair's manifold is kept while it moves less (length; 0: rebuilt every step; contact/manifold_reuse.hpp)
   int threads = 0;          // 0: OpenMP default; results do not depend on it
 };
 

@@ -3,7 +3,10 @@
 // (contact/collide.hpp), gathered into the step's contact list in a fixed order.
 #include <algorithm>
 
+#include <cmath>
+
 #include "ratchet/contact/collide.hpp"
+#include "ratchet/world/test_hooks.hpp"
 #include "ratchet/world/world.hpp"
 
 namespace ratchet {
@@ -94,6 +97,99 @@ void World::store_pair_planes() {
     if (s.pair_planes[k].valid) state_.planes.push_back({s.pairs[k].first, s.pairs[k].second, s.pair_planes[k]});
 }
 
+// Kept manifolds of the last step, looked up by pair (both lists are sorted).
+void World::load_pair_manifolds() {
+  StepScratch& s = scratch_;
+  s.pair_kept.assign(s.pairs.size(), -1);
+  s.pair_keep.resize(s.pairs.size());
+  s.pair_replayed.assign(s.pairs.size(), 0);
+  std::size_t j = 0;
+  const std::vector<KeptManifold>& kept = state_.manifolds;
+  for (std::size_t k = 0; k < s.pairs.size(); ++k) {
+    s.pair_keep[k].count = -1;
+    while (j < kept.size() && std::make_pair(kept[j].a, kept[j].b) < s.pairs[k]) ++j;
+    if (j < kept.size() && std::make_pair(kept[j].a, kept[j].b) == s.pairs[k]) s.pair_kept[k] = static_cast<int>(j);
+  }
+}
+
+void World::reduce_reuse_audit() {
+  ReuseAudit& audit = *test_hooks().reuse_audit;
+  for (const PairAudit& p : scratch_.pair_audit) {
+    if (!p.compared) continue;
+    ++audit.replayed;
+    audit.empty_violations += p.empty_violation ? 1 : 0;
+    audit.max_gap_error = std::max(audit.max_gap_error, p.error);
+    audit.max_error_per_motion = std::max(audit.max_error_per_motion, p.per_motion);
+  }
+}
+
+// Keep the manifolds of this step's polyhedron pairs (replayed ones with the pose they
+// were built at) for the next step.
+void World::store_pair_manifolds() {
+  StepScratch& s = scratch_;
+  std::vector<KeptManifold> next;
+  next.reserve(s.pairs.size());
+  int replayed = 0, built = 0;
+  for (std::size_t k = 0; k < s.pairs.size(); ++k) {
+    if (s.pair_keep[k].count < 0) continue;
+    next.push_back(s.pair_keep[k]);
+    (s.pair_replayed[k] ? replayed : built) += 1;
+  }
+  state_.manifolds.swap(next);
+  stats_.manifolds_replayed = replayed;
+  stats_.manifolds_built = built;
+}
+
+// A polyhedron pair under solver.manifold_reuse (contact/manifold_reuse.hpp): its kept
+// manifold replayed while the pair has moved less than the bound since the build (an
+// empty one only while the gap's lower bound stays beyond the margin), else built anew
+// and kept.
+void World::collide_reusing(int k, const CollisionBody& a, const CollisionBody& b) {
+  StepScratch& s = scratch_;
+  const std::size_t slot = static_cast<std::size_t>(k);
+  const double bound = scene_.solver.manifold_reuse, margin = scene_.solver.contact_margin;
+  ContactManifold& m = s.pair_manifolds[slot];
+  if (s.pair_kept[slot] >= 0) {
+    const KeptManifold& kept = state_.manifolds[static_cast<std::size_t>(s.pair_kept[slot])];
+    const double moved = pair_motion(kept.pose, pair_pose(a.poly, b.poly), a.poly.shape->bounding_radius,
+                                     b.poly.shape->bounding_radius);
+    if (moved <= bound && (kept.count > 0 || kept.gap_bound - moved > margin)) {
+      replay_manifold(kept, a.poly, b.poly, m);
+      s.pair_keep[slot] = kept;
+      s.pair_replayed[slot] = 1;
+      if (s.audit_on) audit_replay(slot, a, b, moved);
+      return;
+    }
+  }
+  CommonPlaneResult plane;
+  collide_polyhedra(a.poly, b.poly, margin, s.pair_planes[slot], m, &plane);
+  s.pair_keep[slot] = keep_manifold(s.pairs[slot].first, s.pairs[slot].second, a.poly, b.poly, m, plane.gap,
+                                    plane.feature == PlaneFeature::FaceB);
+}
+
+// Test hook (world/test_hooks.hpp): the replayed manifold of pair `slot` against a fresh
+// build at the same poses, into the pair's audit slot.
+void World::audit_replay(std::size_t slot, const CollisionBody& a, const CollisionBody& b, double moved) {
+  StepScratch& s = scratch_;
+  const ContactManifold& m = s.pair_manifolds[slot];
+  CommonPlaneCache cache = s.pair_planes[slot];  // a copy: the audit changes nothing
+  ContactManifold fresh;
+  collide_polyhedra(a.poly, b.poly, scene_.solver.contact_margin, cache, fresh);
+  PairAudit& out = s.pair_audit[slot];
+  out.compared = true;
+  if (m.count == 0) {
+    out.empty_violation = fresh.count > 0;
+    return;
+  }
+  double deepest_replayed = HUGE_VAL, deepest_fresh = HUGE_VAL;
+  for (int c = 0; c < m.count; ++c) deepest_replayed = std::min(deepest_replayed, m.points[static_cast<std::size_t>(c)].gap);
+  for (int c = 0; c < fresh.count; ++c) deepest_fresh = std::min(deepest_fresh, fresh.points[static_cast<std::size_t>(c)].gap);
+  // A fresh build found nothing within the margin: the exact gap is beyond it.
+  if (fresh.count == 0) deepest_fresh = scene_.solver.contact_margin;
+  out.error = std::abs(deepest_replayed - deepest_fresh);
+  out.per_motion = moved > 0.0 ? out.error / moved : (out.error > 0.0 ? HUGE_VAL : 0.0);
+}
+
 // (body, wall) candidates whose bounding sphere reaches within the margin of the wall
 // plane, body-major.
 void World::find_wall_pairs(const std::vector<Vec3>& wall_points) {
@@ -164,15 +260,23 @@ void World::detect() {
   s.pair_manifolds.resize(s.pairs.size());  // every slot's count is set below
   const int np = static_cast<int>(s.pairs.size());
   load_pair_planes();
+  const bool reuse = scene_.solver.manifold_reuse > 0.0;
+  if (reuse) load_pair_manifolds();
+  s.audit_on = reuse && test_hooks().reuse_audit != nullptr;
+  if (s.audit_on) s.pair_audit.assign(s.pairs.size(), PairAudit{});
 #pragma omp parallel for schedule(dynamic, 64) if (np > kParallelMin)
   for (int k = 0; k < np; ++k) {
     const int a = s.pairs[static_cast<std::size_t>(k)].first, b = s.pairs[static_cast<std::size_t>(k)].second;
     ContactManifold& m = s.pair_manifolds[static_cast<std::size_t>(k)];
     m.count = 0;
     if (scene_.bodies[static_cast<std::size_t>(a)].fixed && scene_.bodies[static_cast<std::size_t>(b)].fixed) continue;
-    collide_pair(collision_body(a), collision_body(b), margin, s.pair_planes[static_cast<std::size_t>(k)], m);
+    const CollisionBody ca = collision_body(a), cb = collision_body(b);
+    if (reuse && ca.kind == ShapeKind::Polyhedron && cb.kind == ShapeKind::Polyhedron) collide_reusing(k, ca, cb);
+    else collide_pair(ca, cb, margin, s.pair_planes[static_cast<std::size_t>(k)], m);
   }
   store_pair_planes();
+  if (reuse) store_pair_manifolds();
+  if (reuse && s.audit_on) reduce_reuse_audit();
   const int nw = static_cast<int>(scene_.container.walls.size());
   std::vector<Vec3> wall_points(static_cast<std::size_t>(nw));
   for (int w = 0; w < nw; ++w) wall_points[static_cast<std::size_t>(w)] = wall_point(w);

@@ -7,6 +7,7 @@
 #include "ratchet/contact/broad_phase.hpp"
 #include "ratchet/contact/common_plane.hpp"
 #include "ratchet/contact/contact_point.hpp"
+#include "ratchet/contact/manifold_reuse.hpp"
 #include "ratchet/scene/scene.hpp"
 #include "ratchet/solver/nsgs.hpp"
 #include "ratchet/thermal/thermal_protocol.hpp"
@@ -25,6 +26,12 @@ struct SolverContact {
   Vec3 lambda = Vec3::Zero();      // local impulse (n, t1, t2) on A, after the solve
 };
 
+// One replayed pair compared with a fresh build (world/test_hooks.hpp, ReuseAudit).
+struct PairAudit {
+  bool compared = false, empty_violation = false;
+  double error = 0.0, per_motion = 0.0;
+};
+
 struct StepScratch {
   ThermalScales next;              // scales at t + h
   double eps_p = 0.0, eps_c = 0.0; // expansion rates (ds/dt)/s over the step
@@ -40,6 +47,11 @@ struct StepScratch {
   std::vector<BodyPair> pairs;
   std::vector<ContactManifold> pair_manifolds;
   std::vector<CommonPlaneCache> pair_planes;    // per candidate pair (polyhedron pairs only)
+  std::vector<int> pair_kept;                   // per candidate pair: its kept manifold in the state, or -1
+  std::vector<KeptManifold> pair_keep;          // per candidate pair: the manifold to keep (count -1: none)
+  std::vector<char> pair_replayed;              // per candidate pair: 1 if its kept manifold was replayed
+  bool audit_on = false;                        // test hook: replayed pairs compared with fresh builds
+  std::vector<PairAudit> pair_audit;
   std::vector<std::pair<int, int>> wall_pairs;  // (body, wall) within reach, body-major
   std::vector<ContactManifold> wall_manifolds;  // per wall pair
   std::vector<SolverContact> contacts;   // in the order of `colouring`

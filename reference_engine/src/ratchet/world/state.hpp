@@ -1,5 +1,6 @@
 // The mutable state of a run: everything that carries from one step to the next
-// (poses, velocities, scales, the impulses and common planes kept for warm starting).
+// (poses, velocities, scales, the impulses and common planes kept for warm starting,
+// the manifolds kept for reuse).
 // State plus the SceneDef is all a restart needs (`ratchet run --packing` starts from a saved State).
 #pragma once
 
@@ -8,6 +9,7 @@
 #include <vector>
 
 #include "ratchet/contact/common_plane.hpp"
+#include "ratchet/contact/manifold_reuse.hpp"
 #include "ratchet/core/types.hpp"
 
 namespace ratchet {
@@ -46,6 +48,7 @@ struct State {
   std::vector<Quat> q;        // orientation, body -> world
   std::vector<KeptImpulse> impulses;  // sorted by key
   std::vector<KeptPlane> planes;      // sorted by (a, b)
+  std::vector<KeptManifold> manifolds;  // sorted by (a, b); only with solver.manifold_reuse > 0
 };
 
 }  // namespace ratchet

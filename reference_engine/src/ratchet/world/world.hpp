@@ -33,6 +33,8 @@ struct StepStats {
   double wall_force_bottom = 0.0;  // normal force on the bottom
   double wall_force_total = 0.0;   // normal force on all walls (side, bottom and plain planes)
   double max_overlap = 0.0;        // the largest overlap (-gap) among the step's contacts as detected, 0 if none
+  int manifolds_replayed = 0;      // polyhedron pairs whose kept manifold was replayed (solver.manifold_reuse)
+  int manifolds_built = 0;         // ... and those built anew
   std::int64_t tangential_solves = 0;  // accumulated over the run
   std::int64_t total_iterations = 0;   // accumulated over the run
   std::int64_t unconverged_steps = 0;  // steps that hit solver.max_iterations
@@ -98,6 +100,11 @@ class World {
   CollisionBody collision_body(int i) const;
   void load_pair_planes();
   void store_pair_planes();
+  void load_pair_manifolds();
+  void store_pair_manifolds();
+  void collide_reusing(int k, const CollisionBody& a, const CollisionBody& b);
+  void audit_replay(std::size_t slot, const CollisionBody& a, const CollisionBody& b, double moved);
+  void reduce_reuse_audit();
   void find_wall_pairs(const std::vector<Vec3>& wall_points);
   void gather_contacts();
   // solve (world/contact_rows.cpp; the global solve is solver/nsgs.hpp)
