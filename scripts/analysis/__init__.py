@@ -9,7 +9,9 @@ Modules:
 - cli:    the command line of scripts/trends
 - headline: the paper's headline trends as a stored record (validation/results/) and
           the report's first section
-- run_plot: the figure and summary of one run folder (scripts/plot-run)
+- run_plot: the command line of scripts/plot-run (two figures and a summary of one run folder)
+- run_folder: a run folder read for plotting (timeseries, cycles, run.json, thermal phases)
+- run_figures: the results and solver-diagnostics figures of one run folder
 
 Run with Debian's interpreter, /usr/bin/python3.
 """
