@@ -12,6 +12,7 @@ Modules:
 - run_plot: the command line of scripts/plot-run (two figures and a summary of one run folder)
 - run_folder: a run folder read for plotting (timeseries, cycles, run.json, thermal phases)
 - run_figures: the results and solver-diagnostics figures of one run folder
+- sweep_plot: P_max and W_rms of sweep folders against the swept parameter (scripts/plot-sweep)
 
 Run with Debian's interpreter, /usr/bin/python3.
 """

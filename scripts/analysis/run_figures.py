@@ -79,21 +79,21 @@ def solver_panels(run: Run) -> list[str]:
     return names
 
 
-def describe(run: Run) -> str:
-    """What was run, in one line: particles, cone angle, expansion ratio, cycles."""
-    scene = run.scene
+def describe(scene: dict, leave_out: tuple[str, ...] = ()) -> str:
+    """What was run, in one line: particles, cone angle ("angle"), expansion ratio
+    ("ratio"), cycles; leave_out names what a sweep varies."""
     parts = []
     generate = (scene.get("particles") or {}).get("generate") or {}
     if "count" in generate:
         shape = {"polyhedron": "polyhedra", "sphere": "spheres"}.get(generate.get("shape"), "particles")
         parts.append(f"{generate['count']} {shape}")
     container = scene.get("container") or {}
-    if container.get("type") == "cone":
+    if container.get("type") == "cone" and "angle" not in leave_out:
         parts.append(f"cone θ_c = {float(container.get('opening_angle_deg', 0)):g}°")
     th = scene.get("thermal")
     if isinstance(th, dict):
         th = {"alpha_p": 1e-4, "alpha_c": 1e-3, **THERMAL_DEFAULTS, **th}
-        if th["alpha_p"]:
+        if th["alpha_p"] and "ratio" not in leave_out:
             parts.append(f"α_c/α_p = {th['alpha_c'] / th['alpha_p']:.3g}")
         parts.append(f"{th['cycles']} cycle{'s' if th['cycles'] != 1 else ''}")
     return ", ".join(parts)
@@ -182,7 +182,7 @@ def _title(fig: Figure, run: Run, what: str) -> None:
     """The run's name and what the figure shows; below, the bed (or why the run is INCOMPLETE)."""
     fig.suptitle(f"{run.name}: {what}" + ("" if run.complete else " (INCOMPLETE)"), fontsize=11,
                  color="black" if run.complete else "C3", x=0.01, ha="left", y=0.995)
-    sub = describe(run) if run.complete else run.status
+    sub = describe(run.scene) if run.complete else run.status
     if sub:
         fig.text(0.01, 0.995 - 0.28 / fig.get_figheight(), sub, ha="left", va="top", fontsize=8,
                  color="0.25" if run.complete else "C3")

@@ -268,7 +268,7 @@ def test_git_commit_and_dirty_state(tmp_path):
 def _python_sources():
     files = [p for p in SCRIPTS.rglob("*.py") if "tests" not in p.parts]
     files += [SCRIPTS / "trends", SCRIPTS / "compare-methods", SCRIPTS / "compare-settings", SCRIPTS / "accuracy-pareto", SCRIPTS / "method-cost",
-              SCRIPTS / "plot-run", SCRIPTS / "bench-cycled", SCRIPTS / "campaign", REPO / "regression" / "run"]
+              SCRIPTS / "plot-run", SCRIPTS / "plot-sweep", SCRIPTS / "bench-cycled", SCRIPTS / "campaign", REPO / "regression" / "run"]
     files += list((REPO / "regression").glob("*.py")) + list((REPO / "validation").rglob("*.py"))
     return files
 
@@ -290,6 +290,8 @@ def test_shared_helpers_are_defined_only_in_common():
 @pytest.mark.parametrize("command", [
     ["scripts/trends", "--help"],
     ["scripts/campaign", "--help"],
+    ["scripts/plot-run", "--help"],
+    ["scripts/plot-sweep", "--help"],
     ["scripts/compare-methods", "--help"],
     ["scripts/report.py", "--help"],
     ["scripts/liggghts/parse.py", "--help"],
