@@ -119,14 +119,15 @@ def _points(ax, study: Study, metric: str, color, label: str, offset: float = 0.
 
 
 def _p_max_caption(study: Study) -> str:
+    """How this study's P_max was averaged, as far as its run.json says."""
     steady = study.summary.get("steady_cycles")
     window = (study.scene.get("outputs") or {}).get("pressure_window")
-    text = "P_max: each run's mean of the per-cycle peak pressure"
+    parts = []
     if window is not None:
-        text += f" (the largest mean of P over blocks of Δt = {window:g})"
+        parts.append(f"peaks of P averaged over blocks of Δt = {window:g}")
     if isinstance(steady, list) and len(steady) == 2:
-        text += f" over its steady cycles {steady[0]}–{steady[1]}"
-    return text
+        parts.append(f"steady cycles {steady[0]}–{steady[1]}")
+    return f"; P_max from {', '.join(parts)}" if parts else ""
 
 
 def figure(studies: list[Study]) -> Figure:
@@ -144,7 +145,7 @@ def figure(studies: list[Study]) -> Figure:
         n = ", ".join(str(int(v)) for v in stats["n"])
         bed = describe(study.scene, leave_out=(study.kind,))
         captions.append(f"{name} ({study.kind} sweep{', ' + bed if bed else ''}): "
-                        f"{len(study.data)} runs, realizations per point {n}.")
+                        f"{len(study.data)} runs, realizations per point {n}{_p_max_caption(study)}.")
         windows = study.windows
         span = float(np.ptp(stats["x"])) or 1.0
         for i, window in enumerate(windows):
@@ -169,8 +170,9 @@ def figure(studies: list[Study]) -> Figure:
     notes = [f"{s.sweep.name} ({s.kind}): {n}" for s in studies for n in s.notes]
     text = ("Small pale markers: every completed realization; large markers: the mean of each "
             "point with an error bar of one standard error (sample std / sqrt(n); none with n = 1). "
-            + _p_max_caption(studies[0]) + "; W_rms: RMS vorticity of the displacement field "
-            "accumulated over the window's cycles (docs/output-format.md).\n" + " ".join(captions))
+            "P_max: each run's mean of its cycles' peak pressure over the steady cycles; W_rms: RMS "
+            "vorticity of the displacement field accumulated over the window's cycles "
+            "(docs/output-format.md).\n" + "\n".join(captions))
     fig.suptitle("Sweep " + ", ".join(dict.fromkeys(s.sweep.name for s in studies))
                  + ": P_max and W_rms against the swept parameter", x=0.01, ha="left", fontsize=11)
     lines = text.count("\n") + 1 + len(notes)

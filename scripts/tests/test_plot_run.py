@@ -185,6 +185,15 @@ def test_results_start_at_cycling_with_peaks_phases_and_cycle_numbers(run_dir):
     (block_line,) = [line for line in pressure.get_lines() if line.get_label().startswith("P averaged")]
     assert f"Δt = {window:g}" in block_line.get_label()
     assert np.nanmax(block_line.get_ydata()) == pytest.approx(cycles["peak_pressure"].max(), rel=1e-12)
+    # The axis shows every averaged value; single-step spikes above it are said to be cut.
+    top = pressure.get_ylim()[1]
+    assert top >= cycles["peak_pressure"].max() and top >= run.p_max
+    cycling = ts.loc[ts["t"] >= start - 1e-9, "pressure"]
+    said = [t.get_text() for t in pressure.texts if t.get_text().startswith("single steps reach")]
+    if cycling.max() > top:
+        assert said == [f"single steps reach P = {cycling.max():.3g} (off scale; {(cycling > top).sum()} rows)"]
+    else:
+        assert said == []
     legend = [t.get_text() for t in pressure.get_legend().get_texts()]
     assert any(text.startswith(f"P_max = {run.p_max:.4g}") for text in legend)
     # Heating, hot hold and cooling shaded in their colours, once per cycle and panel.
