@@ -96,8 +96,9 @@ def load_studies(folder: str | os.PathLike) -> list[Study]:
         notes = list(sweep.notes)
         data = study_runs(sweep, kind, notes)
         if not np.isfinite(pd.to_numeric(data["P_max"], errors="coerce")).any():
+            # Say why: the runs left out (not completed, or at the solver's cap) are in the notes.
             raise SweepPlotError(f"{sweep.folder / 'summary.csv'}: no completed run with a finite P_max "
-                                 f"along {X_COLUMNS[kind]}")
+                                 f"along {X_COLUMNS[kind]}" + "".join(f"; {n}" for n in notes))
         first = data.sort_values("run").iloc[0]
         run = read_run_json(run_dir(sweep.folder, int(first["run"]))) or {}
         if not run:

@@ -188,6 +188,17 @@ def test_a_sweep_of_another_parameter_is_refused_naming_the_columns(tmp_path):
     assert "solver.theta" in r.stderr and not (folder / "sweep.png").exists()
 
 
+def test_a_sweep_whose_runs_are_all_left_out_says_why(tmp_path):
+    folder = write_sweep(tmp_path / "capped")
+    frame = pd.read_csv(folder / "summary.csv")
+    frame["unconverged_fraction"] = 0.2  # every run above the 5 % that load_sweep accepts
+    frame.to_csv(folder / "summary.csv", index=False)
+    r = plot(folder, cwd=tmp_path)
+    assert r.returncode == 2
+    assert "no completed run with a finite P_max" in r.stderr and "solver's iteration cap" in r.stderr
+    assert not (folder / "sweep.png").exists()
+
+
 RATCHET = engine_binary()
 
 
