@@ -146,7 +146,7 @@ def figure(studies: list[Study]) -> Figure:
         n = ", ".join(str(int(v)) for v in stats["n"])
         bed = describe(study.scene, leave_out=(study.kind,))
         captions.append(f"{name} ({study.kind} sweep{', ' + bed if bed else ''}): "
-                        f"{len(study.data)} runs, realizations per point {n}{_p_max_caption(study)}.")
+                        f"{len(study.data)} runs, realizations per point with a P_max {n}{_p_max_caption(study)}.")
         windows = study.windows
         span = float(np.ptp(stats["x"])) or 1.0
         for i, window in enumerate(windows):
