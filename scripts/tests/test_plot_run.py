@@ -178,10 +178,10 @@ def test_results_start_at_cycling_with_peaks_phases_and_cycle_numbers(run_dir):
     blocks = run_folder.block_means(run, run_folder.thermal_phases(run))
     assert blocks and all(b - a >= window - 1e-9 for a, b, _ in blocks)
     for cycle, (first, last) in run_folder.cycle_spans(run_folder.thermal_phases(run)).items():
-        start, end, mean = max((b for b in blocks if first <= b[0] < last), key=lambda b: b[2])
+        block_start, block_end, mean = max((b for b in blocks if first <= b[0] < last), key=lambda b: b[2])
         row = cycles[cycles["cycle"] == cycle].iloc[0]
         assert mean == pytest.approx(row["peak_pressure"], rel=1e-12)
-        assert (start + end) / 2 == pytest.approx(row["t_peak"], abs=1e-9)
+        assert (block_start + block_end) / 2 == pytest.approx(row["t_peak"], abs=1e-9)
     (block_line,) = [line for line in pressure.get_lines() if line.get_label().startswith("P averaged")]
     assert f"Δt = {window:g}" in block_line.get_label()
     assert np.nanmax(block_line.get_ydata()) == pytest.approx(cycles["peak_pressure"].max(), rel=1e-12)
