@@ -9,10 +9,13 @@ Modules:
 - cli:    the command line of scripts/trends
 - headline: the paper's headline trends as a stored record (validation/results/) and
           the report's first section
-- run_plot: the figure and summary of one run folder (scripts/plot-run)
 - paper_repro, paper_figures, paper_repro_cli: the paper, figure by figure, from the
           campaign's stored runs (scripts/paper-repro, the report's section;
           docs/paper-reproduction.md)
+- run_plot: the command line of scripts/plot-run (two figures and a summary of one run folder)
+- run_folder: a run folder read for plotting (timeseries, cycles, run.json, thermal phases)
+- run_figures: the results and solver-diagnostics figures of one run folder
+- sweep_plot: P_max and W_rms of sweep folders against the swept parameter (scripts/plot-sweep)
 
 Run with Debian's interpreter, /usr/bin/python3.
 """

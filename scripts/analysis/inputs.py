@@ -12,7 +12,8 @@ The contract (docs/trends.md, "Input files"):
 - SWEEP/runs/<run>/cycles.csv: ``cycle``, ``peak_pressure``, ``t_peak``,
   ``V_over_V0_end_cooling``, ``V_over_V0_end_heating``.
 - SWEEP/runs/<run>/displacement_<a>_<b>.csv: ir, iz, r, z, ur, uz, count, w.
-- SWEEP/runs/<run>/run.json: ``summary.steady_cycles`` (the cycles P_max averages).
+- SWEEP/runs/<run>/run.json: ``summary.steady_cycles`` (the cycles P_max averages); the
+  scene (scripts/plot-sweep describes the bed with it).
 
 Every per-run file is optional; readers return None and the caller notes why.
 """
@@ -209,6 +210,17 @@ def read_csv_columns(path: Path, wanted: tuple[str, ...]) -> pd.DataFrame | None
     for column in frame.columns:
         frame[column] = pd.to_numeric(frame[column], errors="coerce")
     return frame
+
+
+def read_run_json(folder: Path | None) -> dict | None:
+    """A run's run.json as a dict; None when missing or unreadable (the caller notes why)."""
+    if folder is None:
+        return None
+    try:
+        value = json.loads((Path(folder) / "run.json").read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        return None
+    return value if isinstance(value, dict) else None
 
 
 def read_timeseries(folder: Path) -> pd.DataFrame | None:

@@ -519,7 +519,7 @@ class Analysis:
         return f"{self.x_label}={value:g}" + (f" {unit}" if unit else "")
 
 
-def _slice(sweep: Sweep, kind: str, notes: list[str]) -> pd.DataFrame:
+def study_runs(sweep: Sweep, kind: str, notes: list[str]) -> pd.DataFrame:
     """The completed runs along `kind`; a grid is cut where the paper fixed the other."""
     data = sweep.completed
     other, reference, label = ((RATIO, PAPER_RATIO, "alpha_c/alpha_p") if kind == "angle"
@@ -944,7 +944,7 @@ def analyse(sweep: Sweep, kind: str, tier: str, case: str | None = None) -> Anal
     if kind not in X_COLUMNS:
         raise ValueError(f"unknown sweep kind {kind!r}")
     notes: list[str] = []
-    data = _slice(sweep, kind, notes)
+    data = study_runs(sweep, kind, notes)
     a = Analysis(sweep=sweep, kind=kind, case=case or f"trends_{kind}:{sweep.name}", tier=tier,
                  data=data, x=X_COLUMNS[kind], x_label=X_LABELS[kind], notes=notes)
     metrics = ["P_max"] + [w.column for w in sweep.windows]

@@ -1,7 +1,7 @@
 """Helpers shared by the Python scripts of ratchet (one implementation each).
 
 Modules:
-  fsutil    atomic file writing: write_atomic, write_csv_atomic, save_figure_atomic
+  fsutil    atomic file writing: write_atomic, write_csv_atomic, save_figure_atomic (format from the extension)
   jsonc     JSON with // and /* */ comments, as the engine's scene parser reads it
   jsonsafe  JSON-ready copies of numpy/pandas values (NaN and infinities to null)
   figures   the report's figure folder: OUT/figures/<name>.png with a caption <name>.txt

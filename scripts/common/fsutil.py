@@ -52,8 +52,27 @@ def write_csv_atomic(df, path: str | os.PathLike, **kwargs) -> None:
     write_atomic(path, df.to_csv(**kwargs))
 
 
+#: Figure file formats by extension (matplotlib's names); the extension alone decides.
+FIGURE_FORMATS = {".png": "png", ".pdf": "pdf", ".svg": "svg"}
+
+
+def figure_format(path: str | os.PathLike) -> str:
+    """The format of a figure file from its extension (case ignored); ValueError naming the
+    file and the extensions known otherwise, so that a caller can refuse it before any work."""
+    suffix = os.path.splitext(os.fspath(path))[1]
+    try:
+        return FIGURE_FORMATS[suffix.lower()]
+    except KeyError:
+        known = ", ".join(FIGURE_FORMATS)
+        got = f"extension {suffix!r}" if suffix else "no extension"
+        raise ValueError(f"{os.fspath(path)}: {got}; expected a figure file name ending in {known}") from None
+
+
 def save_figure_atomic(fig, path: str | os.PathLike, dpi: int = 120, **savefig_kwargs) -> None:
-    """Saves a matplotlib figure as PNG, atomically (extra arguments go to savefig)."""
+    """Saves a matplotlib figure atomically in the format of the file's extension (PNG,
+    PDF or SVG, `figure_format`; ValueError before anything is written otherwise); extra
+    arguments go to savefig."""
     buf = io.BytesIO()
-    fig.savefig(buf, format="png", dpi=dpi, **savefig_kwargs)
+    # Explicit: savefig(BytesIO) has no file name to take the format from.
+    fig.savefig(buf, format=figure_format(path), dpi=dpi, **savefig_kwargs)
     write_atomic(path, buf.getvalue())

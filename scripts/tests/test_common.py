@@ -117,6 +117,24 @@ def test_save_figure_atomic_writes_a_png(tmp_path):
     assert [p.name for p in tmp_path.iterdir()] == ["f.png"]
 
 
+@pytest.mark.parametrize("name, magic", [("f.pdf", b"%PDF-"), ("F.SVG", b"<?xml"), ("f.png", b"\x89PNG")])
+def test_save_figure_atomic_takes_the_format_from_the_extension(tmp_path, name, magic):
+    path = tmp_path / name
+    fsutil.save_figure_atomic(_figure(), path, dpi=50)
+    data = path.read_bytes()
+    assert data.startswith(magic)
+    if name.lower().endswith(".svg"):
+        assert b"<svg" in data[:2000]
+    assert [p.name for p in tmp_path.iterdir()] == [name]
+
+
+@pytest.mark.parametrize("name", ["f.jpg", "f", "f.png.txt"])
+def test_save_figure_atomic_refuses_an_unknown_extension_and_writes_nothing(tmp_path, name):
+    with pytest.raises(ValueError, match=r"expected a figure file name ending in \.png, \.pdf, \.svg"):
+        fsutil.save_figure_atomic(_figure(), tmp_path / name)
+    assert list(tmp_path.iterdir()) == []
+
+
 # ----------------------------------------------------------------------- figures --
 
 def test_save_figure_writes_png_and_caption_in_the_figures_folder(tmp_path):
@@ -250,8 +268,8 @@ def test_git_commit_and_dirty_state(tmp_path):
 def _python_sources():
     files = [p for p in SCRIPTS.rglob("*.py") if "tests" not in p.parts]
     files += [SCRIPTS / "trends", SCRIPTS / "compare-methods", SCRIPTS / "compare-settings", SCRIPTS / "accuracy-pareto", SCRIPTS / "method-cost",
-              SCRIPTS / "plot-run", SCRIPTS / "bench-cycled", SCRIPTS / "campaign", SCRIPTS / "paper-repro",
-              REPO / "regression" / "run"]
+              SCRIPTS / "plot-run", SCRIPTS / "plot-sweep", SCRIPTS / "bench-cycled", SCRIPTS / "campaign",
+              SCRIPTS / "paper-repro", REPO / "regression" / "run"]
     files += list((REPO / "regression").glob("*.py")) + list((REPO / "validation").rglob("*.py"))
     return files
 
@@ -274,6 +292,8 @@ def test_shared_helpers_are_defined_only_in_common():
     ["scripts/trends", "--help"],
     ["scripts/campaign", "--help"],
     ["scripts/paper-repro", "--help"],
+    ["scripts/plot-run", "--help"],
+    ["scripts/plot-sweep", "--help"],
     ["scripts/compare-methods", "--help"],
     ["scripts/report.py", "--help"],
     ["scripts/liggghts/parse.py", "--help"],
