@@ -246,6 +246,7 @@ struct SceneArgs {
   std::string out, packing, resume;
   std::vector<std::string> overrides;
   bool explain = false, quiet = false;
+  double progress_every = 60.0;  // off a terminal: seconds between progress lines
 };
 
 // A run stopped by a signal: where it stands, and the conventional status 128 + signal.
@@ -276,7 +277,8 @@ int resume_run(const SceneArgs& a) {
     ratchet::RunOptions opt;
     opt.out_dir = dir;
     opt.resume = point.run;
-    opt.progress = !a.quiet && isatty(STDERR_FILENO);
+    opt.progress = !a.quiet;
+    opt.log_every = a.progress_every;
     ratchet::install_stop_handlers();
     if (!a.quiet)
       std::cerr << "ratchet: " << point.scene.name << ": resuming at step " << world.state().step << " of "
@@ -376,7 +378,8 @@ int run_or_pack(const bool pack, const SceneArgs& a) {
       return explain(world);
     }
     opt.out_dir = out_dir;
-    opt.progress = !quiet && isatty(STDERR_FILENO);
+    opt.progress = !quiet;
+    opt.log_every = a.progress_every;
     ratchet::install_stop_handlers();
     const ratchet::RunResult r = ratchet::run_world(world, opt);
     if (!quiet)
@@ -470,6 +473,11 @@ int ratchet_cli_main(int argc, char** argv) {
       ->type_name("DIR");
   run->add_flag("--explain", run_args.explain, "print the steps' phases and why, write nothing (--out is ignored)");
   run->add_flag("--quiet", run_args.quiet, "no progress line and no closing summary line");
+  run->add_option("--progress-every", run_args.progress_every,
+                  "when stderr is not a terminal (a batch job's log): a timestamped progress line this often "
+                  "(default 60; 0: only at the end)")
+      ->type_name("SECONDS")
+      ->check(CLI::NonNegativeNumber);
 
   CLI::App* pack = app.add_subcommand("pack", "Pour and settle the bed to the end of the settle stage and write "
                                                "that state (a packing) to FILE.");

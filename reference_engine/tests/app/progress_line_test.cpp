@@ -1,10 +1,14 @@
 // The progress line of `ratchet run` and `ratchet pack` (run/runner.hpp): on a terminal
-// it is cut to the width and cleared to the end of the line; elsewhere it is written as
-// it always was.
+// it is cut to the width and cleared to the end of the line; elsewhere (a batch job's
+// log) run_world writes whole timestamped lines.
 #include <fcntl.h>
 #include <unistd.h>
 
 #include <gtest/gtest.h>
+
+#include <regex>
+#include <sstream>
+#include <vector>
 
 #include <cstdlib>
 #include <optional>
@@ -75,28 +79,53 @@ TEST_F(Columns, WithoutTheTerminalsSizeTakeColumnsThen80) {
   EXPECT_EQ(terminal_columns(fd), 80);
 }
 
-// run_world with the progress line on and stderr not a terminal (captured into a file):
-// the bytes are those of before, with no escape sequence and no cut.
-TEST(ProgressLine, RunWorldOffATerminalWritesTheOldLine) {
-  World world(build_scene(nlohmann::json::parse(R"({
+// run_world with progress on and stderr not a terminal (captured into a file), as in a
+// batch job's log: whole lines, each stamped with the UTC time, the time left before
+// anything else, no carriage return or escape sequence and no cut; with log_every 0 only
+// the last step's line, with a tiny log_every one line per step.
+World long_named_world() {
+  return World(build_scene(nlohmann::json::parse(R"({
     "name": "a_scene_name_long_enough_to_pass_eighty_columns_with_the_rest_of_the_line",
     "time": {"dt": 0.01, "duration": 0.05},
     "container": {"type": "planes", "planes": [{"normal": [0, 0, 1], "point": [0, 0, 0]}]},
     "particles": {"bodies": [{"shape": "sphere", "radius": 0.5, "position": [0, 0, 2]}]}
   })"),
-                          "long.json"));
-  RunOptions opt;
-  opt.progress = true;
-  ::testing::internal::CaptureStderr();
-  run_world(world, opt);
-  const std::string err = ::testing::internal::GetCapturedStderr();
-  // The last step is always printed: "\r<name>: step 5/5 (100.0%) t=0.05 T=0 ... left   \n".
-  const std::string start = "\ra_scene_name_long_enough_to_pass_eighty_columns_with_the_rest_of_the_line: step 5/5 "
-                            "(100.0%) t=0.05 T=0 contacts=0 iter=";
-  ASSERT_NE(err.find(start), std::string::npos) << err;
-  EXPECT_EQ(err.substr(err.size() - 10), "s left   \n");
-  EXPECT_EQ(err.find('\x1b'), std::string::npos);
-  EXPECT_GT(err.size() - err.find(start), 100u);  // not cut to any width
+                           "long.json"));
+}
+
+std::vector<std::string> lines_of(const std::string& text) {
+  std::vector<std::string> out;
+  std::istringstream in(text);
+  for (std::string line; std::getline(in, line);) out.push_back(line);
+  return out;
+}
+
+TEST(ProgressLine, RunWorldOffATerminalWritesStampedLines) {
+  const std::regex line(
+      R"(^\d{4}-\d\d-\d\dT\d\d:\d\d:\d\dZ a_scene_name_long_enough_to_pass_eighty_columns_with_the_rest_of_the_line: )"
+      R"((\d+s|\d+m\d\ds|\d+h\d\dm) left, step (\d)/5 \((\d+\.\d)%\) t=[0-9.e-]+ T=0 contacts=\d+ iter=\d+$)");
+  for (const double every : {0.0, 1e-9}) {
+    World world = long_named_world();
+    RunOptions opt;
+    opt.progress = true;
+    opt.log_every = every;
+    ::testing::internal::CaptureStderr();
+    run_world(world, opt);
+    const std::string err = ::testing::internal::GetCapturedStderr();
+    EXPECT_EQ(err.find('\r'), std::string::npos) << err;
+    EXPECT_EQ(err.find('\x1b'), std::string::npos) << err;
+    const std::vector<std::string> lines = lines_of(err);
+    ASSERT_EQ(lines.size(), every > 0.0 ? 5u : 1u) << err;
+    for (std::size_t k = 0; k < lines.size(); ++k) {
+      std::smatch m;
+      ASSERT_TRUE(std::regex_match(lines[k], m, line)) << lines[k];
+      EXPECT_EQ(std::stoi(m[2].str()), static_cast<int>(k + 6 - lines.size()));  // the last line is step 5
+    }
+  }
+}
+
+TEST(ProgressLine, UtcStampIsIso8601) {
+  EXPECT_TRUE(std::regex_match(utc_stamp(), std::regex(R"(^20\d\d-[01]\d-[0-3]\dT[0-2]\d:[0-5]\d:[0-6]\dZ$)")));
 }
 
 }  // namespace

@@ -267,7 +267,7 @@ TEST(RatchetCli, HelpOfTheProgramAndOfEachCommandOnStdout) {
   // Each command's help: its usage and every one of its options, on stdout, nothing on stderr.
   const std::vector<std::pair<std::string, std::vector<std::string>>> commands = {
       {"run", {"ratchet run SCENE.json --out DIR", "ratchet run --explain SCENE.json", "--out DIR", "--packing FILE",
-               "--set key.path=value", "--explain", "--quiet"}},
+               "--set key.path=value", "--explain", "--quiet", "--progress-every SECONDS"}},
       {"pack", {"ratchet pack SCENE.json --out FILE", "--out FILE", "--set key.path=value", "--quiet"}},
       {"bodies", {"ratchet bodies SCENE.json --out FILE.json", "--out FILE.json", "--set key.path=value", "--quiet"}},
       {"sweep", {"ratchet sweep SWEEP.json --out DIR [--jobs N]", "--out DIR", "--jobs N"}},
@@ -291,6 +291,17 @@ TEST(RatchetCli, HelpOfTheProgramAndOfEachCommandOnStdout) {
   const Result r = run("help frobnicate");
   EXPECT_EQ(r.status, 2);
   EXPECT_THAT(r.output, HasSubstr("unknown command 'frobnicate'"));
+  fs::remove_all(d);
+}
+
+// A negative --progress-every is refused before any work, naming the option.
+TEST(RatchetCli, ANegativeProgressIntervalIsRefused) {
+  const fs::path d = scratch();
+  write(d / "s.json", kScene);
+  const Result r = run("run " + (d / "s.json").string() + " --out " + (d / "out").string() + " --progress-every -1");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_THAT(r.output, HasSubstr("--progress-every"));
+  EXPECT_FALSE(fs::exists(d / "out"));
   fs::remove_all(d);
 }
 

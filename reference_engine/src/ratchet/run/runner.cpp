@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <ctime>
 #include <filesystem>
 #include <memory>
 #include <optional>
@@ -36,6 +37,15 @@ std::string format_seconds(double s) {
 }
 
 }  // namespace
+
+std::string utc_stamp() {
+  const std::time_t now = std::time(nullptr);
+  std::tm utc{};
+  gmtime_r(&now, &utc);
+  char buf[32];
+  std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", &utc);
+  return buf;
+}
 
 std::string progress_line(const std::string& text, int columns) {
   if (columns <= 0) return "\r" + text + "   ";  // not a terminal: as it always was
@@ -192,20 +202,27 @@ RunResult run_world(World& world, const RunOptions& options, const std::function
         write_checkpoint(options.out_dir, world, run_record(packing, packing_settle, warnings, settle ? &*settle : nullptr, observers, *out));
       if (options.progress) {
         const auto now = std::chrono::steady_clock::now();
-        if (std::chrono::duration<double>(now - last_print).count() > 0.5 || k == total) {
+        const double since = std::chrono::duration<double>(now - last_print).count();
+        const bool due = k == total || (tty ? since > 0.5 : options.log_every > 0.0 && since >= options.log_every);
+        if (due) {
           last_print = now;
           const double el = std::chrono::duration<double>(now - start).count();
           const double left = el / static_cast<double>(k - first_step) * static_cast<double>(total - k);
+          // The time left first: a narrow terminal cuts the end of the line.
           char tail[256];
-          std::snprintf(tail, sizeof tail, ": step %lld/%lld%s (%.1f%%) t=%.4g T=%.4g contacts=%d iter=%d  %s left",
-                        static_cast<long long>(k), static_cast<long long>(total),
+          std::snprintf(tail, sizeof tail, ": %s left, step %lld/%lld%s (%.1f%%) t=%.4g T=%.4g contacts=%d iter=%d",
+                        format_seconds(left).c_str(), static_cast<long long>(k), static_cast<long long>(total),
                         world.settling() ? " at most, settling" : "",
                         100.0 * static_cast<double>(k) / static_cast<double>(total), world.state().t, world.state().T,
-                        world.stats().contacts, world.stats().iterations, format_seconds(left).c_str());
-          // The width is read at each print: the terminal may have been resized.
-          std::fputs(progress_line(scene.name + tail, tty ? terminal_columns(STDERR_FILENO) : 0).c_str(), stderr);
-          printed = k != total;
-          if (k == total) std::fprintf(stderr, "\n");
+                        world.stats().contacts, world.stats().iterations);
+          if (tty) {
+            // The width is read at each print: the terminal may have been resized.
+            std::fputs(progress_line(scene.name + tail, terminal_columns(STDERR_FILENO)).c_str(), stderr);
+            printed = k != total;
+            if (k == total) std::fprintf(stderr, "\n");
+          } else {
+            std::fprintf(stderr, "%s %s%s\n", utc_stamp().c_str(), scene.name.c_str(), tail);
+          }
           std::fflush(stderr);
         }
       }

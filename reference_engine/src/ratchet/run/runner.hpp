@@ -13,7 +13,10 @@ namespace ratchet {
 
 struct RunOptions {
   std::string out_dir;        // empty: no files
-  bool progress = false;      // a progress line with the time left, on stderr
+  bool progress = false;      // progress with the time left, on stderr (docs/cli.md, "Progress line")
+  // Off a terminal (a batch job's log): a timestamped line this often, in seconds, and at
+  // the last step; on a terminal the line is rewritten every 0.5 s instead.
+  double log_every = 60.0;
   // Set when the world's state was loaded from a packing (run/packing.hpp):
   // packing_reference(...) and the settle record stored in the packing. Both go to
   // run.json; null: the run starts from the scene and records its own settle stage.
@@ -43,6 +46,9 @@ struct RunError : std::runtime_error {
 // to the end of the line), so a shorter line leaves nothing behind and a long one does
 // not wrap. Not a terminal (columns <= 0): "\r", `text` and three spaces.
 std::string progress_line(const std::string& text, int columns);
+
+// The UTC time as 2026-11-26T02:58:01Z, the stamp of the progress lines off a terminal.
+std::string utc_stamp();
 
 // Width of the terminal on `fd`: TIOCGWINSZ, else $COLUMNS, else 80.
 int terminal_columns(int fd);
