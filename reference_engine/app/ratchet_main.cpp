@@ -4,7 +4,7 @@
 //   ratchet run --resume DIR [--quiet]
 //   ratchet pack SCENE.json --out FILE [--set key.path=value ...] [--quiet]
 //   ratchet bodies SCENE.json --out FILE.json [--set key.path=value ...] [--quiet]
-//   ratchet sweep SWEEP.json --out DIR [--jobs N]
+//   ratchet sweep SWEEP.json --out DIR [--jobs N] [--set key.path=value ...]
 //   ratchet --version | -V | version,  ratchet help [COMMAND] | --help | -h,  ratchet COMMAND --help
 #include <unistd.h>
 
@@ -59,7 +59,7 @@ const std::map<std::string, std::string> kSynopsis = {
      "  ratchet run --resume DIR [--quiet]\n"},
     {"pack", "  ratchet pack SCENE.json --out FILE [--set key.path=value ...] [--quiet]\n"},
     {"bodies", "  ratchet bodies SCENE.json --out FILE.json [--set key.path=value ...] [--quiet]\n"},
-    {"sweep", "  ratchet sweep SWEEP.json --out DIR [--jobs N]\n"},
+    {"sweep", "  ratchet sweep SWEEP.json --out DIR [--jobs N] [--set key.path=value ...]\n"},
     {"help", "  ratchet help [COMMAND]\n"},
     {"version", "  ratchet version\n"},
 };
@@ -80,10 +80,10 @@ const char* kUsage =
     "  ratchet bodies SCENE.json --out FILE.json [--set key.path=value ...] [--quiet]\n"
     "      build the scene as run does and write its bodies and shapes (poses, mass properties,\n"
     "      vertices) to FILE.json\n"
-    "  ratchet sweep SWEEP.json --out DIR [--jobs N]\n"
+    "  ratchet sweep SWEEP.json --out DIR [--jobs N] [--set key.path=value ...]\n"
     "      run every point of a sweep (grid x realizations), N runs at a time (default: all cores);\n"
     "      under mpirun -n K the runs are spread over K ranks; writes DIR/packings/, DIR/runs/<id>/,\n"
-    "      DIR/summary.csv\n"
+    "      DIR/summary.csv; --set changes the base scene of every run\n"
     "  ratchet --version | -V | version\n"
     "      print the version and build type\n"
     "  ratchet help [COMMAND] | --help | -h\n"
@@ -179,7 +179,7 @@ bool launched_by_mpirun() {
 }
 
 // The arguments have been checked (ratchet_cli_main); jobs 0: the default.
-int sweep(const std::string& sweep_path, const std::string& out_dir, int jobs) {
+int sweep(const std::string& sweep_path, const std::string& out_dir, int jobs, const std::vector<std::string>& overrides) {
   const bool mpi = launched_by_mpirun();
   int rank = 0, size = 1;
   if (mpi) {
@@ -190,7 +190,7 @@ int sweep(const std::string& sweep_path, const std::string& out_dir, int jobs) {
   int status = 0;
   try {
     // Every rank checks the whole sweep before any run starts.
-    const ratchet::SweepPlan plan = ratchet::load_sweep(sweep_path, out_dir);
+    const ratchet::SweepPlan plan = ratchet::load_sweep(sweep_path, out_dir, overrides);
     std::vector<int> mine;
     for (const auto& run : plan.runs)
       if (run.id % size == rank) mine.push_back(run.id);
@@ -500,12 +500,14 @@ int ratchet_cli_main(int argc, char** argv) {
   bodies->add_flag("--quiet", bodies_args.quiet, "no closing line");
 
   std::string sweep_file, sweep_out, jobs_text;
+  std::vector<std::string> sweep_overrides;
   CLI::App* sweep_cmd = app.add_subcommand("sweep", "Run every point of a sweep (grid x realizations) from shared "
                                                     "packings; resumes: complete runs are kept (docs/sweeps.md).");
   sweep_cmd->add_option("SWEEP.json", sweep_file, "the sweep file")->type_name("");
   sweep_cmd->add_option("--out", sweep_out, "output folder (required); each run goes to DIR/runs/<id>/")
       ->type_name("DIR");
   // Read as text and checked below: CLI11 would name neither the option nor the rule.
+  add_set_option(sweep_cmd, sweep_overrides);
   sweep_cmd->add_option("--jobs", jobs_text,
                         "runs at a time per process, N >= 1 (default: all cores; 1 per rank under mpirun)")
       ->type_name("N");
@@ -577,7 +579,7 @@ int ratchet_cli_main(int argc, char** argv) {
     if (!problem.empty())
       return input_error("--out " + sweep_out + ": expected a folder, or a path where one can be created, but " +
                          problem);
-    return sweep(sweep_file, sweep_out, jobs);
+    return sweep(sweep_file, sweep_out, jobs, sweep_overrides);
   }
   if (command == "bodies") return write_bodies(bodies_args);
   return run_or_pack(command == "pack", command == "pack" ? pack_args : run_args);

@@ -270,7 +270,7 @@ TEST(RatchetCli, HelpOfTheProgramAndOfEachCommandOnStdout) {
                "--set key.path=value", "--explain", "--quiet", "--progress-every SECONDS"}},
       {"pack", {"ratchet pack SCENE.json --out FILE", "--out FILE", "--set key.path=value", "--quiet"}},
       {"bodies", {"ratchet bodies SCENE.json --out FILE.json", "--out FILE.json", "--set key.path=value", "--quiet"}},
-      {"sweep", {"ratchet sweep SWEEP.json --out DIR [--jobs N]", "--out DIR", "--jobs N"}},
+      {"sweep", {"ratchet sweep SWEEP.json --out DIR [--jobs N]", "--out DIR", "--jobs N", "--set key.path=value"}},
   };
   for (const auto& [command, texts] : commands) {
     for (const char* flag : {" --help", " -h"}) {

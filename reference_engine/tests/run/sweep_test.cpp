@@ -85,6 +85,29 @@ TEST(LoadSweep, RunsShareThePackingTheirKeyAllows) {
   EXPECT_EQ(needed_packings(plan), (std::vector<int>{0, 1, 2, 3}));
 }
 
+// `ratchet sweep --set`: the overrides change every run's scene after the file's `set`
+// (the later wins), and a malformed one is refused naming it.
+TEST(LoadSweep, CommandLineOverridesApplyToEveryRunAfterTheFilesSet) {
+  Dir dir("overrides");
+  const json sweep = {{"scene", kScene},
+                      {"set", {{"solver.tolerance", 1e-3}, {"thermal.cycles", 2}}},
+                      {"grid", {{"thermal.alpha_p", {1e-4, 2e-4}}}}};
+  const SweepPlan plan =
+      load_sweep(dir.write(sweep), dir.path.string(), {"solver.tolerance=1e-5", "solver.manifold_reuse=0.002"});
+  ASSERT_EQ(plan.runs.size(), 2u);
+  for (const SweepRun& r : plan.runs) {
+    EXPECT_EQ(r.scene.at("solver").at("tolerance"), 1e-5);
+    EXPECT_EQ(r.scene.at("solver").at("manifold_reuse"), 0.002);
+    EXPECT_EQ(r.scene.at("thermal").at("cycles"), 2);
+  }
+  try {
+    load_sweep(dir.write(sweep), dir.path.string(), {"solver.tolerance"});
+    FAIL() << "an override without '=' was taken";
+  } catch (const SceneError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("--set solver.tolerance"));
+  }
+}
+
 TEST(LoadSweep, RejectsBadSweepsBeforeWritingAnything) {
   Dir dir("bad");
   const std::string out = (dir.path / "out").string();

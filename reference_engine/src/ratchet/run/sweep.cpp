@@ -40,7 +40,8 @@ void set_path(json& j, const std::string& path, const json& value, const std::st
 
 }  // namespace
 
-SweepPlan load_sweep(const std::string& path, const std::string& out_dir) {
+SweepPlan load_sweep(const std::string& path, const std::string& out_dir,
+                     const std::vector<std::string>& overrides) {
   std::ifstream in(path);
   if (!in) throw SceneError(path + ": cannot open the sweep file");
   const json j = json::parse(in, nullptr, false, true);
@@ -73,6 +74,7 @@ SweepPlan load_sweep(const std::string& path, const std::string& out_dir) {
     if (!j.at("set").is_object()) fail(path, "set", "an object {\"dotted.path\": value}");
     for (auto it = j.at("set").begin(); it != j.at("set").end(); ++it) set_path(base, it.key(), it.value(), path);
   }
+  for (const std::string& assignment : overrides) apply_override(base, assignment, "--set " + assignment);
   // Seeds.
   std::vector<std::uint64_t> seeds;
   if (j.contains("seeds")) {

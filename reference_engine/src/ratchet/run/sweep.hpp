@@ -36,7 +36,10 @@ struct SweepPlan {
 
 // Reads a sweep file and checks every run's scene (errors name the sweep file, the
 // run and the field) before anything is written.
-SweepPlan load_sweep(const std::string& path, const std::string& out_dir);
+// `overrides` (`ratchet sweep --set key.path=value`, applied in order after the file's
+// `set`) change the base scene of every run.
+SweepPlan load_sweep(const std::string& path, const std::string& out_dir,
+                     const std::vector<std::string>& overrides = {});
 
 std::string run_dir(const SweepPlan& plan, int id);
 
