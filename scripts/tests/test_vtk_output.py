@@ -165,6 +165,7 @@ def test_particles_are_the_bodies_rows_of_their_step(run, csv):
         assert sorted(set(array(cd, "body_id").tolist())) == sorted(rows.index.tolist())
         xyz, radius = points(poly), array(pd_, "radius")
         vel, ang, scale = array(pd_, "velocity"), array(pd_, "angular_velocity"), array(pd_, "scale")
+        volume, r_eq = array(pd_, "volume"), array(pd_, "equivalent_radius")
         assert poly.GetNumberOfVerts() == n_bodies - 1  # the spheres
         assert poly.GetNumberOfPolys() == 6             # the box's faces
         for i, row in rows.iterrows():
@@ -175,6 +176,11 @@ def test_particles_are_the_bodies_rows_of_their_step(run, csv):
                 assert close(a, b), (path.name, i)
             assert mine.sum() == (8 if i == 0 else 1)
             assert (radius[mine] > 0).all() == (i != 0)
+            # Every body has a size, the box too; a sphere's equivalent radius is its radius.
+            assert (r_eq[mine] > 0).all() and (volume[mine] > 0).all()
+            assert all(close(v, 4.0 / 3.0 * math.pi * r ** 3) for v, r in zip(volume[mine], r_eq[mine]))
+            if i != 0:
+                assert all(close(a, b) for a, b in zip(r_eq[mine], radius[mine]))
             for p in range(int(mine.sum())):
                 assert all(close(a, b) for a, b in zip(vel[mine][p], (row.vx, row.vy, row.vz)))
                 assert all(close(a, b) for a, b in zip(ang[mine][p], (row.wx, row.wy, row.wz)))

@@ -130,6 +130,7 @@ VtkBody cube(int id, const Vec3& lo) {
   b.velocity = Vec3(0.1 * id, 0.0, -1.0);
   b.angular_velocity = Vec3(0.0, 0.5 * id, 2.0);
   b.scale = 1.25;
+  b.volume = 1.25 * 1.25 * 1.25;  // a unit cube at scale 1.25
   for (int i = 0; i < 8; ++i) b.vertices.push_back(lo + Vec3(i & 1, (i >> 1) & 1, (i >> 2) & 1));
   b.faces = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
   return b;
@@ -142,6 +143,7 @@ TEST(VtkWriter, ParticlesHaveConsistentCountsAndTheirBodiesData) {
   sphere.id = 7;
   sphere.vertices = {Vec3(5, 5, 5)};
   sphere.sphere_radius = 0.75;
+  sphere.volume = 4.0 / 3.0 * M_PI * 0.75 * 0.75 * 0.75;
   sphere.velocity = Vec3(1, 2, 3);
   sphere.angular_velocity = Vec3(-4, 0.5, 0);
   write_particles_vtp(path.string(), {cube(0, Vec3::Zero()), sphere, cube(1, Vec3(3, 0, 0))}, {2.0000000000000004, 500});
@@ -175,6 +177,13 @@ TEST(VtkWriter, ParticlesHaveConsistentCountsAndTheirBodiesData) {
   EXPECT_EQ(std::vector<double>(vel.begin() + 24, vel.begin() + 27), (std::vector<double>{1, 2, 3}));
   EXPECT_EQ(v.at("PointData", "scale").values[0], 1.25);
   EXPECT_EQ(v.at("PointData", "scale").values[8], 1.0);
+  // Every body has a size: the cube's equivalent radius is that of a sphere of volume
+  // 1.25^3, the sphere's its radius (12 digits written).
+  const std::vector<double>& req = v.at("PointData", "equivalent_radius").values;
+  EXPECT_NEAR(req[0], 1.25 * std::cbrt(3.0 / (4.0 * M_PI)), 1e-11);
+  EXPECT_NEAR(req[8], 0.75, 1e-11);
+  EXPECT_NEAR(v.at("CellData", "volume").values[1], 1.953125, 1e-11);
+  EXPECT_NEAR(v.at("CellData", "equivalent_radius").values[0], 0.75, 1e-11);
   const std::vector<double>& pts = v.at("Points", "Points").values;
   EXPECT_EQ(std::vector<double>(pts.begin() + 24, pts.begin() + 27), (std::vector<double>{5, 5, 5}));
   fs::remove_all(d);

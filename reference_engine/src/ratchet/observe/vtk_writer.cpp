@@ -99,6 +99,8 @@ void write_particles_vtp(const std::string& path, const std::vector<VtkBody>& bo
     check_finite(b.velocity.allFinite(), what + " velocity");
     check_finite(b.angular_velocity.allFinite(), what + " angular velocity");
     check_finite(std::isfinite(b.scale), what + " scale");
+    check_finite(std::isfinite(b.volume), what + " volume");
+    if (b.volume < 0.0) throw std::invalid_argument(what + ": negative volume");
     for (const Vec3& v : b.vertices) check_finite(v.allFinite(), what + " vertex");
     const auto first = static_cast<std::int64_t>(pts.size());
     if (b.sphere_radius > 0.0) {
@@ -133,6 +135,10 @@ void write_particles_vtp(const std::string& path, const std::vector<VtkBody>& bo
     data_array(out, "Float64", "velocity", 3, n, [&](std::size_t i) { put(out, of[i]->velocity); });
     data_array(out, "Float64", "angular_velocity", 3, n, [&](std::size_t i) { put(out, of[i]->angular_velocity); });
     data_array(out, "Float64", "scale", 1, n, [&](std::size_t i) { out << of[i]->scale; });
+    // The size of every body, spheres and polyhedra alike, to colour or filter by.
+    data_array(out, "Float64", "volume", 1, n, [&](std::size_t i) { out << of[i]->volume; });
+    data_array(out, "Float64", "equivalent_radius", 1, n,
+               [&](std::size_t i) { out << std::cbrt(3.0 * of[i]->volume / (4.0 * M_PI)); });
   };
   out << "<PointData>\n";
   body_arrays(point_body);

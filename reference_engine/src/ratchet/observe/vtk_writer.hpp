@@ -35,14 +35,15 @@ struct VtkBody {
   std::vector<Vec3> vertices;
   std::vector<std::vector<int>> faces;
   double sphere_radius = 0.0;  // > 0 marks a sphere
+  double volume = 0.0;         // at the current scale
 };
 
 // Particle shapes: every sphere a Verts cell at its centre, every face of every
 // polyhedron a Polys cell (cells numbered Verts first, then Polys, as VTK numbers them).
 // PointData: body_id (Int32), radius (the sphere radius at a sphere's centre, 0 at
 // polyhedron vertices; for ParaView's Glyph filter), velocity, angular_velocity (3
-// components) and scale of the point's body. CellData: body_id, velocity,
-// angular_velocity and scale of the cell's body.
+// components), scale, volume and equivalent_radius (of the sphere of that volume) of the
+// point's body. CellData: the same of the cell's body but radius.
 void write_particles_vtp(const std::string& path, const std::vector<VtkBody>& bodies, const VtkTime& time);
 
 // One contact point: its position, the normal (unit, from B towards A), the forces on
