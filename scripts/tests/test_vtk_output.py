@@ -229,6 +229,43 @@ def test_contacts_are_the_timeseries_contacts_of_their_step(run, csv):
     assert some > 0
 
 
+def test_force_chains_are_the_contacts_as_lines_between_the_centres(run, csv):
+    _, bodies = csv
+    chains = 0
+    statuses = set()
+    for _, path in snapshots(run, "force_chains"):
+        poly = read_vtp(path)
+        contacts = read_vtp(run / "vtk" / path.name.replace("force_chains_", "contacts_"))
+        n = contacts.GetNumberOfPoints()
+        assert poly.GetNumberOfLines() == n and poly.GetNumberOfPoints() == 2 * n, path.name
+        if n == 0:
+            continue
+        cd, pd_ = poly.GetCellData(), contacts.GetPointData()
+        fn, ft, status = array(cd, "normal_force"), array(cd, "tangential_force"), array(cd, "status")
+        a, b = array(cd, "body_a"), array(cd, "body_b")
+        assert (a == array(pd_, "body_a")).all() and (b == array(pd_, "body_b")).all()
+        f_t = array(pd_, "tangential_force")
+        rows = bodies[bodies["step"] == step_of(poly)].set_index("id")
+        xyz, contact_xyz = points(poly), points(contacts)
+        for i in range(n):
+            assert close(fn[i], array(pd_, "normal_force_magnitude")[i])
+            assert close(ft[i], math.sqrt(sum(x * x for x in f_t[i])))
+            # Open has no normal force; a slipping contact is on its cone (the default
+            # friction 0.5 against bodies and walls alike).
+            assert (status[i] == 0) == (fn[i] <= 0.0)
+            if status[i] == 2:
+                assert close(ft[i], 0.5 * fn[i], 1e-6)
+            if status[i] == 1:
+                assert ft[i] < 0.5 * fn[i] * (1 + 1e-6)
+            centre_a = rows.loc[a[i]]
+            assert all(close(p, q) for p, q in zip(xyz[2 * i], (centre_a.x, centre_a.y, centre_a.z)))
+            end = contact_xyz[i] if b[i] < 0 else tuple(rows.loc[b[i]][["x", "y", "z"]])
+            assert all(close(p, q) for p, q in zip(xyz[2 * i + 1], end))
+            statuses.add(int(status[i]))
+            chains += 1
+    assert chains > 0 and len(statuses) >= 2, statuses  # the status tells contacts apart
+
+
 def cone_corners(s_c):
     """The container's points at scale s_c: bottom ring, then top ring (docs/output-format.md)."""
     half = math.pi / N_SEG
@@ -312,8 +349,9 @@ def test_a_rerun_removes_the_earlier_snapshots(tmp_path):
     assert ratchet("run", FREE_FALL, "--out", tmp_path, "--set", "outputs.vtk_every=1500").returncode == 0
     names = sorted(p.name for p in (tmp_path / "vtk").iterdir())
     steps = ["00000000", "00001500", "00003000", "00004000"]
-    assert names == sorted(["notes.txt", "particles.pvd", "contacts.pvd", "container.pvd"] +
-                           [f"{k}_step{s}.vtp" for k in ("particles", "contacts", "container") for s in steps])
+    kinds = ("particles", "contacts", "container", "force_chains")
+    assert names == sorted(["notes.txt"] + [f"{k}.pvd" for k in kinds] +
+                           [f"{k}_step{s}.vtp" for k in kinds for s in steps])
     assert ratchet("run", FREE_FALL, "--out", tmp_path).returncode == 0
     assert sorted(p.name for p in (tmp_path / "vtk").iterdir()) == ["notes.txt"]
 

@@ -84,8 +84,7 @@ Vtp parse(const std::string& xml) {
   EXPECT_EQ(v.file["type"], "PolyData");
   // Every array has one tuple per point / cell of its section.
   const std::size_t points = v.count("NumberOfPoints");
-  const std::size_t cells = v.count("NumberOfVerts") + v.count("NumberOfPolys");
-  EXPECT_EQ(v.count("NumberOfLines"), 0u);
+  const std::size_t cells = v.count("NumberOfVerts") + v.count("NumberOfPolys") + v.count("NumberOfLines");
   EXPECT_EQ(v.count("NumberOfStrips"), 0u);
   for (const auto& [sec, arrays] : v.sections)
     for (const auto& [name, a] : arrays) {
@@ -213,6 +212,33 @@ TEST(VtkWriter, ContactsArePointsWithTheirForcesAndBodies) {
   const std::vector<double>& pts = v.at("Points", "Points").values;
   EXPECT_EQ(std::vector<double>(pts.begin() + 6, pts.end()), (std::vector<double>{1, 1, 0}));
   EXPECT_EQ(v.at("PointData", "normal").values.size(), 9u);
+  fs::remove_all(d);
+}
+
+TEST(VtkWriter, ForceChainsAreLinesBetweenTheCentresWithForcesAndStatus) {
+  const fs::path d = temp_dir();
+  std::vector<VtkContact> c(3);
+  c[0] = {Vec3(0, 0, 1), Vec3(0, 0, 1), Vec3(0, 0, 2.5), Vec3(0.5, 0, 0), -0.01, 0, 1,
+          Vec3(0, 0, 1.5), Vec3(0, 0, 0.5), kContactStick};
+  c[1] = {Vec3(1, 0, 0), Vec3(1, 0, 0), Vec3::Zero(), Vec3::Zero(), 0.02, 1, 2, Vec3(1.5, 0, 0), Vec3(0.5, 0, 0),
+          kContactOpen};
+  c[2] = {Vec3(1, 1, 0), Vec3(0, -1, 0), Vec3(0, -10, 0), Vec3(0, 0, 3), 0.0, 2, -3, Vec3(1, 1.5, 0), Vec3(1, 1, 0),
+          kContactSlip};  // against wall 2: to the contact point
+  write_force_chains_vtp((d / "f.vtp").string(), c, {0.5, 7});
+  const Vtp v = parse(read_text(d / "f.vtp"));
+  EXPECT_EQ(v.count("NumberOfPoints"), 6u);
+  EXPECT_EQ(v.count("NumberOfLines"), 3u);
+  EXPECT_EQ(v.count("NumberOfVerts"), 0u);
+  EXPECT_EQ(cell(v, "Lines", 2), (std::vector<int>{4, 5}));
+  const std::vector<double>& pts = v.at("Points", "Points").values;
+  EXPECT_EQ(std::vector<double>(pts.begin() + 12, pts.end()), (std::vector<double>{1, 1.5, 0, 1, 1, 0}));
+  EXPECT_EQ(v.at("CellData", "normal_force").values, (std::vector<double>{2.5, 0, 10}));
+  EXPECT_EQ(v.at("CellData", "tangential_force").values, (std::vector<double>{0.5, 0, 3}));
+  EXPECT_EQ(v.at("CellData", "status").values, (std::vector<double>{1, 0, 2}));
+  EXPECT_EQ(v.at("CellData", "body_b").values, (std::vector<double>{1, 2, -3}));
+  c[1].status = 7;
+  EXPECT_THROW(write_force_chains_vtp((d / "g.vtp").string(), c, {0.5, 7}), std::invalid_argument);
+  EXPECT_FALSE(fs::exists(d / "g.vtp"));
   fs::remove_all(d);
 }
 

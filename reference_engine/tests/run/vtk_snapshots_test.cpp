@@ -81,7 +81,7 @@ TEST(VtkSnapshots, FirstEveryNLastAndStageEndsEachIndexedOnce) {
   const std::vector<std::string> expected = {"step00000000", "step00000020", "step00000040", "step00000060",
                                              "cycle0_end_cooling", "step00000080"};
   const std::vector<long> steps = {0, 20, 40, 60, 70, 80};
-  for (const std::string kind : {"particles", "contacts", "container"}) {
+  for (const std::string kind : {"particles", "contacts", "container", "force_chains"}) {
     const Indexed pvd = read_pvd(d / "vtk" / (kind + ".pvd"));
     ASSERT_EQ(pvd.files.size(), expected.size()) << kind;
     for (std::size_t i = 0; i < expected.size(); ++i) {
@@ -96,13 +96,13 @@ TEST(VtkSnapshots, FirstEveryNLastAndStageEndsEachIndexedOnce) {
     // indexed under the first.
     EXPECT_EQ(step_of(d / "vtk" / (kind + "_cycle0_end_heating.vtp")), 40);
   }
-  // Exactly these files: 7 tags x 3 kinds and 3 indexes, nothing half-written.
+  // Exactly these files: 7 tags x 4 kinds and 4 indexes, nothing half-written.
   std::size_t files = 0;
   for (const auto& e : fs::directory_iterator(d / "vtk")) {
     ++files;
     EXPECT_EQ(e.path().string().find(".partial"), std::string::npos) << e.path();
   }
-  EXPECT_EQ(files, 7u * 3u + 3u);
+  EXPECT_EQ(files, 7u * 4u + 4u);
   fs::remove_all(d);
 }
 

@@ -52,7 +52,8 @@ void data_array(std::ostream& out, const char* type, const char* name, int compo
 }
 
 // The file's head up to the opening <Piece>: field data TimeValue and step.
-void begin(std::ostream& out, const VtkTime& time, std::size_t points, std::size_t verts, std::size_t polys) {
+void begin(std::ostream& out, const VtkTime& time, std::size_t points, std::size_t verts, std::size_t polys,
+           std::size_t lines = 0) {
   out.imbue(std::locale::classic());  // '.' decimal point whatever the global locale
   out << "<?xml version=\"1.0\"?>\n"
          "<VTKFile type=\"PolyData\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n"
@@ -62,7 +63,7 @@ void begin(std::ostream& out, const VtkTime& time, std::size_t points, std::size
   data_array(out, "Int64", "step", 1, 1, [&](std::size_t) { out << time.step; }, true);
   out.precision(kDigits);
   out << "</FieldData>\n<Piece NumberOfPoints=\"" << points << "\" NumberOfVerts=\"" << verts
-      << "\" NumberOfLines=\"0\" NumberOfStrips=\"0\" NumberOfPolys=\"" << polys << "\">\n";
+      << "\" NumberOfLines=\"" << lines << "\" NumberOfStrips=\"0\" NumberOfPolys=\"" << polys << "\">\n";
 }
 
 void points(std::ostream& out, const std::vector<Vec3>& p) {
@@ -185,6 +186,38 @@ void write_contacts_vtp(const std::string& path, const std::vector<VtkContact>& 
   out << "</PointData>\n";
   points(out, pts);
   cells(out, "Verts", verts);
+  end(out);
+  file.commit();
+}
+
+void write_force_chains_vtp(const std::string& path, const std::vector<VtkContact>& contacts, const VtkTime& time) {
+  check_finite(std::isfinite(time.t), "write_force_chains_vtp: time");
+  std::vector<Vec3> pts;
+  CellBlock lines;
+  for (std::size_t i = 0; i < contacts.size(); ++i) {
+    const VtkContact& c = contacts[i];
+    const std::string what = "write_force_chains_vtp: contact " + std::to_string(i);
+    check_finite(c.from.allFinite() && c.to.allFinite(), what + " end");
+    check_finite(c.normal_force.allFinite() && c.tangential_force.allFinite(), what + " force");
+    if (c.status != kContactOpen && c.status != kContactStick && c.status != kContactSlip)
+      throw std::invalid_argument(what + ": status " + std::to_string(c.status) + " is not 0, 1 or 2");
+    pts.push_back(c.from);
+    pts.push_back(c.to);
+    lines.add(std::vector<std::size_t>{0, 1}, static_cast<std::int64_t>(2 * i));
+  }
+  AtomicFile file(path);
+  std::ostream& out = file.stream();
+  begin(out, time, pts.size(), 0, 0, lines.size());
+  const std::size_t n = contacts.size();
+  out << "<CellData>\n";
+  data_array(out, "Float64", "normal_force", 1, n, [&](std::size_t i) { out << contacts[i].normal.dot(contacts[i].normal_force); });
+  data_array(out, "Float64", "tangential_force", 1, n, [&](std::size_t i) { out << contacts[i].tangential_force.norm(); });
+  data_array(out, "Int32", "status", 1, n, [&](std::size_t i) { out << contacts[i].status; });
+  data_array(out, "Int32", "body_a", 1, n, [&](std::size_t i) { out << contacts[i].body_a; });
+  data_array(out, "Int32", "body_b", 1, n, [&](std::size_t i) { out << contacts[i].body_b; });
+  out << "</CellData>\n";
+  points(out, pts);
+  cells(out, "Lines", lines);
   end(out);
   file.commit();
 }

@@ -56,13 +56,27 @@ struct VtkContact {
   double gap = 0.0;
   int body_a = 0;
   int body_b = -1;
+  Vec3 from = Vec3::Zero();  // A's centre
+  Vec3 to = Vec3::Zero();    // B's centre, or the contact point when B is a wall
+  int status = 0;            // kContactOpen, kContactStick or kContactSlip
 };
+
+// A contact's state after the solve, as DEM viewers colour force chains.
+constexpr int kContactOpen = 0;   // no normal force
+constexpr int kContactStick = 1;  // inside the friction cone
+constexpr int kContactSlip = 2;   // on the cone: |f_t| = mu f_n to round-off
 
 // Contacts as points: one Verts cell per contact at its point. PointData: normal,
 // normal_force, tangential_force (3 components), normal_force_magnitude (the signed
 // normal force n . normal_force, >= 0 from the solver), gap (Float64), body_a, body_b
 // (Int32).
 void write_contacts_vtp(const std::string& path, const std::vector<VtkContact>& contacts, const VtkTime& time);
+
+// Force chains: one Lines cell per contact, from A's centre to B's (or to the contact
+// point on a wall), two points per line. CellData: normal_force (n . normal_force),
+// tangential_force (its magnitude; Float64), status (Int32: 0 open, 1 stick, 2 slip),
+// body_a, body_b (Int32).
+void write_force_chains_vtp(const std::string& path, const std::vector<VtkContact>& contacts, const VtkTime& time);
 
 // Container walls: one Polys cell per polygon of the mesh (observe/container_mesh.hpp).
 // CellData: wall_index (Int32, index into the scene's walls), side_id (Int32, the

@@ -40,9 +40,11 @@ bool is_run_output(const std::string& name) {
 // vtk/: the snapshots (.vtp; .vtk of older versions) and the .pvd indexes, final or .partial.
 bool is_vtk_output(const std::string& name) {
   const std::string base = without_partial(name);
-  if (base == "particles.pvd" || base == "contacts.pvd" || base == "container.pvd") return true;
+  if (base == "particles.pvd" || base == "contacts.pvd" || base == "container.pvd" || base == "force_chains.pvd")
+    return true;
   return (ends_with(base, ".vtp") || ends_with(base, ".vtk")) &&
-         (base.rfind("particles_", 0) == 0 || base.rfind("contacts_", 0) == 0 || base.rfind("container_", 0) == 0);
+         (base.rfind("particles_", 0) == 0 || base.rfind("contacts_", 0) == 0 || base.rfind("container_", 0) == 0 ||
+          base.rfind("force_chains_", 0) == 0);
 }
 
 }  // namespace

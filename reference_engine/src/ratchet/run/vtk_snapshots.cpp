@@ -7,6 +7,7 @@
 #include "ratchet/core/contact_side.hpp"
 #include "ratchet/io/json_numbers.hpp"
 #include "ratchet/observe/bed_geometry.hpp"
+#include "ratchet/solver/local_coulomb.hpp"
 
 namespace ratchet {
 
@@ -48,6 +49,11 @@ VtkSnapshot take_vtk_snapshot(const World& world) {
     vc.gap = c.geometry.gap;
     vc.body_a = c.a;
     vc.body_b = c.b;
+    vc.from = st.x[static_cast<std::size_t>(c.a)];
+    vc.to = is_wall(c.b) ? c.geometry.point : st.x[static_cast<std::size_t>(c.b)];
+    // On the cone as the solver's slide test reads it (solver/local_coulomb.hpp).
+    Eigen::Vector2d slide;
+    vc.status = !(c.lambda[0] > 0.0) ? kContactOpen : slide_direction(c.lambda, c.mu, slide) ? kContactSlip : kContactStick;
     snap.contacts.push_back(vc);
     if (is_wall(c.b)) wall_force[static_cast<std::size_t>(wall_index(c.b))] += c.lambda[0];
   }
@@ -88,7 +94,8 @@ std::vector<PvdEntry> entries_from_json(const nlohmann::json& j) {
 
 nlohmann::json VtkSnapshots::save() const {
   return {{"last_indexed_step", last_indexed_step_}, {"particles", json_entries(particles_)},
-          {"contacts", json_entries(contacts_)}, {"container", json_entries(container_)}};
+          {"contacts", json_entries(contacts_)}, {"container", json_entries(container_)},
+          {"force_chains", json_entries(force_chains_)}};
 }
 
 void VtkSnapshots::restore(const nlohmann::json& j) {
@@ -96,10 +103,13 @@ void VtkSnapshots::restore(const nlohmann::json& j) {
   particles_ = entries_from_json(j.at("particles"));
   contacts_ = entries_from_json(j.at("contacts"));
   container_ = entries_from_json(j.at("container"));
+  // Checkpoints made before force chains were written have none.
+  force_chains_ = entries_from_json(j.value("force_chains", nlohmann::json::array()));
   if (out_dir_.empty() || particles_.empty()) return;
   const std::string dir = out_dir_ + "/vtk";
   write_pvd(dir + "/particles.pvd", particles_);
   write_pvd(dir + "/contacts.pvd", contacts_);
+  if (!force_chains_.empty()) write_pvd(dir + "/force_chains.pvd", force_chains_);
   if (!container_.empty()) write_pvd(dir + "/container.pvd", container_);
 }
 
@@ -125,10 +135,11 @@ void VtkSnapshots::write(const VtkSnapshot& snap, const std::string& tag) {
   const std::string dir = out_dir_ + "/vtk";
   std::filesystem::create_directories(dir);
   const std::string particles = "particles_" + tag + ".vtp", contacts = "contacts_" + tag + ".vtp",
-                    container = "container_" + tag + ".vtp";
+                    container = "container_" + tag + ".vtp", chains = "force_chains_" + tag + ".vtp";
   const bool walls = !snap.container.polygons.empty();
   write_particles_vtp(dir + "/" + particles, snap.bodies, snap.time);
   write_contacts_vtp(dir + "/" + contacts, snap.contacts, snap.time);
+  write_force_chains_vtp(dir + "/" + chains, snap.contacts, snap.time);
   if (walls) write_container_vtp(dir + "/" + container, snap.container, snap.wall_normal, snap.wall_force, snap.time);
   // A state written under two tags (a stage end on a step of vtk_every) is indexed once,
   // under the first: one time, one data set.
@@ -136,8 +147,10 @@ void VtkSnapshots::write(const VtkSnapshot& snap, const std::string& tag) {
   last_indexed_step_ = snap.time.step;
   particles_.push_back({snap.time.t, particles});
   contacts_.push_back({snap.time.t, contacts});
+  force_chains_.push_back({snap.time.t, chains});
   write_pvd(dir + "/particles.pvd", particles_);
   write_pvd(dir + "/contacts.pvd", contacts_);
+  write_pvd(dir + "/force_chains.pvd", force_chains_);
   if (walls) {
     container_.push_back({snap.time.t, container});
     write_pvd(dir + "/container.pvd", container_);

@@ -2,9 +2,9 @@
 // of heating and cooling of the cycles in outputs.vtk_cycles, and with
 // outputs.vtk_every = N at the run's first state, after every step k with k % N == 0
 // and after the last step. A snapshot is written under DIR/vtk/ as particles_<tag>.vtp,
-// contacts_<tag>.vtp and (with a container) container_<tag>.vtp
+// contacts_<tag>.vtp, force_chains_<tag>.vtp and (with a container) container_<tag>.vtp
 // (observe/vtk_writer.hpp, observe/container_mesh.hpp); after each, the indexes
-// particles.pvd, contacts.pvd and container.pvd are rewritten (observe/pvd_writer.hpp),
+// particles.pvd, contacts.pvd, force_chains.pvd and container.pvd are rewritten (observe/pvd_writer.hpp),
 // so a killed run still leaves a valid index of what it wrote. Only reads the world.
 #pragma once
 
@@ -64,7 +64,7 @@ class VtkSnapshots {
   const SceneDef& scene_;
   std::string out_dir_;
   std::int64_t last_indexed_step_ = -1;
-  std::vector<PvdEntry> particles_, contacts_, container_;
+  std::vector<PvdEntry> particles_, contacts_, container_, force_chains_;
 };
 
 }  // namespace ratchet
