@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "ratchet/scene/scene_detail.hpp"
-#include "ratchet/solver/nsgs.hpp"
+#include "ratchet/solver/nsgs.hpp"  // kMaxAndersonDepth
 
 namespace ratchet::scene_detail {
 
@@ -37,7 +37,7 @@ void read_solver(const Reader& r, const json& j, SolverSettings& s) {
     else if (a == "anderson") s.acceleration = Acceleration::Anderson;
     else r.fail(p + ".acceleration", "\"none\" or \"anderson\"", &a);
   }
-  s.anderson_depth = static_cast<int>(r.integer(j, p, "anderson_depth", s.anderson_depth, 1, 50));
+  s.anderson_depth = static_cast<int>(r.integer(j, p, "anderson_depth", s.anderson_depth, 1, kMaxAndersonDepth));
   s.theta = r.number(j, p, "theta", s.theta, 0.5, 1.0, false, false, "a number in [0.5, 1]");
   s.p_gap = r.number(j, p, "p_gap", s.p_gap, 0.0, 1.0, true, false, "a number in (0, 1]");
   s.compliance = r.number(j, p, "compliance", s.compliance, 0.0, 1.0, false, false, "a number in [0, 1]");
