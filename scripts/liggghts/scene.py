@@ -1,6 +1,6 @@
 """Reading a ratchet scene for the LIGGGHTS translation.
 
-The engine's parser (reference_engine/src/ratchet/scene/scene.cpp) is the authority.
+The engine's parser (reference_engine/src/ratchet/scene/, scene.cpp and its parts) is the authority.
 The bodies, generated or listed, come from the engine itself: `ratchet bodies SCENE
 --out FILE` builds the scene exactly as `ratchet run` does and writes every body
 (docs/output-format.md, "Bodies and shapes"); nothing is regenerated here. This module
@@ -248,7 +248,7 @@ def _normalize(v):
 
 
 def cone_walls(bottom_radius, opening_angle_deg, segments):
-    """Floor plus N side segments exactly as build_cone_walls in scene.cpp."""
+    """Floor plus N side segments exactly as build_cone_walls in scene_sections.cpp."""
     th = math.radians(opening_angle_deg)
     walls = [Wall((0.0, 0.0, 1.0), (0.0, 0.0, 0.0), "bottom", True)]
     for k in range(segments):

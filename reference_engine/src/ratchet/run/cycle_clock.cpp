@@ -12,7 +12,7 @@ CycleClock::CycleClock(const SceneDef& scene, double t0, bool settling) : scene_
   settle_pending_ = settling;
   // The start of cycling is the first state with t >= start_time (within round-off):
   // the initial state when start_time is 0, or a packing (run/packing.hpp) that ends there.
-  started_ = thermal_ && t0 >= scene_.thermal.start_time - 1e-9 * scene_.dt;
+  started_ = thermal_ && t0 >= scene_.thermal.start_time - kTimeRoundTol * scene_.dt;
   started_at_first_ = started_;
   t_prev_ = t0;
 }
@@ -62,7 +62,7 @@ ClockTick CycleClock::tick(double t, bool settling) {
   k.before_cycling = !started_;
   // A state a few ulps below start_time reaches the mark, and so would the next step:
   // the start is taken once.
-  if (!started_ && t >= p.start_time - 1e-9 * scene_.dt) {
+  if (!started_ && t >= p.start_time - kTimeRoundTol * scene_.dt) {
     started_ = true;
     k.cycling_starts = true;
   }

@@ -6,18 +6,10 @@
 
 #include <nlohmann/json.hpp>
 
+#include "ratchet/run/time_marks.hpp"
 #include "ratchet/scene/scene.hpp"
 
 namespace ratchet {
-
-// A stage mark (end of heating, of cooling, of a cycle) counts as reached by a state
-// within kStageMarkTol h below it. t is accumulated step by step (t += h), so after N
-// steps it is off the exact N h by up to N ulp(t): 17,000 steps of h = 0.004 from
-// t = 20 left the end of the last cycle 9e-12 = 2.2e-9 h short, and 1e-9 h missed it
-// (no last cycle-end snapshot, no W_rms of the windows ending there). 1e-4 h covers
-// the worst case of the paper tier (140,000 steps to t = 560: 2e-6 h) with a margin,
-// and is far below the step, so no mark moves to another step.
-constexpr double kStageMarkTol = 1e-4;
 
 // Stage marks crossed by the step from t_prev to t (several at once when a hold has
 // zero length).

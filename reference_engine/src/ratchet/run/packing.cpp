@@ -9,6 +9,7 @@
 #include "ratchet/observe/energy.hpp"
 #include "ratchet/run/runner.hpp"
 #include "ratchet/run/state_bounds.hpp"
+#include "ratchet/run/time_marks.hpp"
 
 namespace ratchet {
 
@@ -154,7 +155,7 @@ void SettleMonitor::check(World& world) {
     done_ = true;
     return;
   }
-  if (t_ >= s.settle.max_time - 1e-9 * s.dt)
+  if (t_ >= s.settle.max_time - kTimeRoundTol * s.dt)
     throw SettleError(s.source + ": the bed did not settle by settle.max_time = " + shown(s.settle.max_time) +
                       ": KE/KE_peak = " + shown(peak_ > 0.0 ? ke_ / peak_ : 0.0) + " at t = " + shown(t_) +
                       " is above settle.ke_ratio = " + shown(threshold_) + "; raise settle.max_time or settle.ke_ratio");
@@ -234,7 +235,7 @@ json load_packing(const std::string& path, World& world) {
     const json settle = f.meta.value("settle", json());
     if (!settle.is_object() || settle.value("reached", json()) != true)
       throw StateFileError(path + ": the packing's settle record does not say that the bed reached settle.ke_ratio");
-    if (f.state.t > s.settle.max_time + 1e-9 * s.dt)
+    if (f.state.t > s.settle.max_time + kTimeRoundTol * s.dt)
       throw StateFileError(path + ": the packing ends at t = " + shown(f.state.t) + ", after settle.max_time = " +
                            shown(s.settle.max_time) + " of " + s.source);
   } else {

@@ -5,6 +5,7 @@
 
 #include "ratchet/io/json_numbers.hpp"
 #include "ratchet/observe/wall_pressure.hpp"
+#include "ratchet/run/time_marks.hpp"
 
 namespace ratchet {
 
@@ -18,7 +19,7 @@ void PressurePeaks::after_step(const World& world, const ClockTick& tick) {
   if (block_cycle_ != k) { block_sum_ = 0.0; block_time_ = 0.0; block_start_ = tick.t_prev; block_cycle_ = k; }
   block_sum_ += side_wall_pressure(world.scene(), world.state(), world.stats().wall_force_side) * dt;
   block_time_ += dt;
-  if (block_time_ >= scene_.outputs.pressure_window - 1e-9 * dt) {
+  if (block_time_ >= scene_.outputs.pressure_window - kTimeRoundTol * dt) {
     const double P = block_sum_ / block_time_;
     if (P > c.value) { c.value = P; c.time = 0.5 * (block_start_ + tick.t); }
     block_sum_ = 0.0;

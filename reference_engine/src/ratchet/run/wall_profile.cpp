@@ -11,6 +11,14 @@
 
 namespace ratchet {
 
+namespace {
+
+// Steps: the settled window's edge midway between two states, where no round-off in t
+// can move a state across it.
+constexpr double kWindowEdge = 0.5;
+
+}  // namespace
+
 nlohmann::json WallProfile::save() const {
   return {{"rows", rows_}, {"impulse", json_numbers(impulse_)}, {"time", json_number(time_)},
           {"height", json_number(height_)}, {"in_cold_hold", in_cold_hold_}, {"in_settled_window", in_settled_window_}};
@@ -32,7 +40,7 @@ void WallProfile::after_step(const World& world, const ClockTick& tick) {
   // when the run starts from a packing that ends at start_time). The half step keeps
   // the count at round(settled_profile_time / h) whatever the round-off in t.
   if (tick.before_cycling && o.settled_profile_time > 0.0 && !tick.settling &&
-      tick.t > scene_.thermal.start_time - o.settled_profile_time + 0.5 * scene_.dt) {
+      tick.t > scene_.thermal.start_time - o.settled_profile_time + kWindowEdge * scene_.dt) {
     if (!in_settled_window_) {
       in_settled_window_ = true;
       begin(world);

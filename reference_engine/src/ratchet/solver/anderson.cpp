@@ -9,6 +9,17 @@
 
 namespace ratchet {
 
+namespace {
+
+// Tikhonov term on the Gram matrix's diagonal, relative to its largest entry: it matters
+// only for eigenvalues below about 1e-10 of the largest, i.e. combinations of the
+// columns shorter than about 1e-5 of the longest (nearly parallel columns). The absolute
+// term (squared velocity units) keeps the matrix positive definite when every column is zero.
+constexpr double kTikhonovRel = 1e-10;
+constexpr double kTikhonovFloor = 1e-300;
+
+}  // namespace
+
 double* AndersonMixer::record_buffer(std::size_t rows, bool after) {
   std::vector<double>& b = after ? g_ : x_;
   b.resize(3 * rows);
@@ -158,7 +169,7 @@ bool AndersonMixer::plan(const std::vector<SolverRow>& rows) {
   Eigen::MatrixXd G = gram_.topLeftCorner(m, m);
   // Tikhonov term relative to the Gram matrix's scale: keeps nearly parallel columns
   // (a slowly converging sweep repeats its direction) from blowing gamma up.
-  G.diagonal().array() += 1e-10 * G.diagonal().maxCoeff() + 1e-300;
+  G.diagonal().array() += kTikhonovRel * G.diagonal().maxCoeff() + kTikhonovFloor;
   const Eigen::VectorXd gamma = G.ldlt().solve(r);
   if (!gamma.allFinite()) { count_ = 0; head_ = 0; ++restarts_; return false; }
   for (int a = 0; a < m; ++a) {

@@ -20,7 +20,7 @@ namespace ratchet {
 
 class AndersonMixer {
  public:
-  static constexpr int kMaxDepth = 50;  // solver.anderson_depth's upper bound
+  static constexpr int kMaxDepth = kMaxAndersonDepth;  // solver.anderson_depth's upper bound (nsgs.hpp)
   // Reductions over the rows run in fixed blocks of this many rows (thread-independent
   // sums); the passes run in parallel above these sizes, below which a parallel region
   // costs more than it saves.

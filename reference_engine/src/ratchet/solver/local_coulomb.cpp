@@ -13,6 +13,9 @@ constexpr double kNewtonStepTol = 1e-14;    // a step this small is round-off
 constexpr double kNewtonSmallStep = 1e-6;   // below it, a step no smaller than the last one is the rounding floor
 constexpr double kSlideResidualFloor = 1e-15;  // |d x u_t| / |u_t| at round-off
 constexpr double kAdmissibleResidual = 1e-9;   // u_t parallel to d within 1e-9 rad: W's round-off with a wide margin
+constexpr double kDerivativeFloor = 1e-300;   // |g'| (velocity) not above it: 0, denormal or NaN, no usable Newton step
+constexpr int kFixedPointSteps = 2;  // one step converges where the fixed point is exact, the second confirms it
+constexpr int kBisectionSteps = 60;  // 2 pi / 256 halved 60 times: 2e-20 rad, machine precision of any angle above 1e-4
 
 // Sliding solution for a given friction direction d (unit, in the tangent plane):
 // lambda_t = mu lambda_n d and u_n = 0 fix lambda_n; returns the tangential velocity.
@@ -69,7 +72,7 @@ bool newton_slide(const Mat3& W, const Vec3& w, double mu, const Eigen::Vector2d
     const double un = ut.norm();
     if (!(un > 0.0) || std::abs(g) < kSlideResidualFloor * un) break;
     const double g_p = dp.x() * ut.y() + da.x() * ut_p.y() - dp.y() * ut.x() - da.y() * ut_p.x();
-    if (!(std::abs(g_p) > 1e-300)) break;
+    if (!(std::abs(g_p) > kDerivativeFloor)) break;
     double tau = -g / g_p;
     if (std::abs(tau) > kNewtonMaxStep) tau = tau > 0.0 ? kNewtonMaxStep : -kNewtonMaxStep;  // stay in the basin
     da = (da + tau * dp).normalized();
@@ -116,7 +119,7 @@ LocalSolution detail::solve_local_slide(const Mat3& W, const Vec3& w, double mu,
   if (!d.allFinite()) d = Eigen::Vector2d(1.0, 0.0);
   const Eigen::Vector2d d0 = d;  // the stick trial direction
   constexpr double kDirTol = 1e-13;  // direction converged to near round-off
-  for (int it = 0; it < 2; ++it) {
+  for (int it = 0; it < kFixedPointSteps; ++it) {
     const SlideTrial s = slide_trial(W, w, mu, d);
     if (!s.valid) break;
     const double un = s.u_t.norm();
@@ -153,7 +156,7 @@ LocalSolution detail::solve_local_slide(const Mat3& W, const Vec3& w, double mu,
     const double r1 = residual_at(a1);
     if (r0 == 0.0 || (r0 < 0.0) != (r1 < 0.0)) {
       double lo = a0, hi = a1, rlo = r0;
-      for (int b = 0; b < 60 && rlo != 0.0; ++b) {
+      for (int b = 0; b < kBisectionSteps && rlo != 0.0; ++b) {
         const double mid = 0.5 * (lo + hi);
         const double rm = residual_at(mid);
         if ((rm < 0.0) == (rlo < 0.0)) { lo = mid; rlo = rm; } else { hi = mid; }

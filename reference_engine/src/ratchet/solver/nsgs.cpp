@@ -11,6 +11,7 @@ namespace ratchet {
 namespace {
 
 constexpr int kStallSweeps = 100;  // sweeps without halving the residual: 5x a normal step's total
+constexpr double kStallProgress = 0.5;  // a new mark: the residual below half the last mark
 constexpr std::int8_t kSpringLaw = 1, kCapLaw = 2;  // SolverRow::law_taken, law_kept
 
 // A compliant row whose overlap asks for a separation speed above the cap: the rigid
@@ -188,7 +189,7 @@ NsgsResult solve_nsgs(std::vector<SolverRow>& cs, SolverBodies& B, const NsgsSet
     }
     if (it == half) normal_half = normal_impulse_sum(cs);
     if (residual < tol) break;
-    if (residual < 0.5 * mark) {
+    if (residual < kStallProgress * mark) {
       mark = residual;
       mark_it = it;
     } else if (it - mark_it >= kStallSweeps && !out.plain_fallback) {

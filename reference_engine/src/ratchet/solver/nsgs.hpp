@@ -13,6 +13,10 @@
 
 namespace ratchet {
 
+// Upper bound of solver.anderson_depth (sweeps): AndersonMixer sizes fixed arrays with
+// it; 10 and 20 measured no better than the default 5 (docs/scene-format.md).
+constexpr int kMaxAndersonDepth = 50;
+
 struct NsgsSettings {
   double tolerance = 1e-4;
   int max_iterations = 100;

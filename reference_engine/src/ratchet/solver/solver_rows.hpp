@@ -113,8 +113,9 @@ double velocity_change(const SolverBodies& bodies, const std::vector<Vec3>& v0, 
 // rigid problem with no solution, where they grow in proportion to the sweep count; a
 // solvable problem that is merely slow has settled its normal impulses long before.
 double normal_impulse_sum(const std::vector<SolverRow>& rows);
+constexpr double kNormalGrowth = 1.5;  // between 1 (settled sums) and 2 (sums in proportion to the sweeps: a jam)
 inline bool normal_impulses_grew(bool converged, double sum_at_half, double sum_at_end) {
-  return !converged && sum_at_half >= 0.0 && sum_at_end > 1.5 * sum_at_half;
+  return !converged && sum_at_half >= 0.0 && sum_at_end > kNormalGrowth * sum_at_half;
 }
 
 }  // namespace ratchet
