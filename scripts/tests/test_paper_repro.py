@@ -8,6 +8,7 @@ Run with Debian's interpreter: /usr/bin/python3 -m pytest -q scripts/tests/test_
 from __future__ import annotations
 
 import json
+import re
 import subprocess
 import sys
 from pathlib import Path
@@ -20,6 +21,7 @@ import paper_runs  # noqa: E402  (puts scripts/ on the path)
 
 from analysis import paper_repro, paper_repro_cli, trends  # noqa: E402
 from analysis.inputs import load_sweep  # noqa: E402
+from campaign_lib import store  # noqa: E402
 from common import templates  # noqa: E402
 from common.paths import REPO_ROOT  # noqa: E402
 
@@ -48,7 +50,8 @@ def test_with_no_stored_run_every_statement_is_not_yet_run_and_names_what_is_lef
     data = paper_repro.build(results=tmp_path / "none", out=tmp_path / "out",
                              reduced=[("Stored", RECORD)])
     assert (data["stored"], data["planned"]) == (0, 45)
-    assert data["todo"].startswith("45 run(s), about 81.0 CPU h")
+    hours = 45 * paper_runs.load_plan(paper_runs.PAPER_PLAN).run_cost_hours  # the plan's estimate
+    assert data["todo"].startswith(f"45 run(s), about {hours:.1f} CPU h")
     for s in data["statements"]:
         assert s["figures"] == [] and s["checks"] == []
         if s["id"] == "table1":
@@ -122,7 +125,7 @@ def test_the_halving_shows_the_verdict_of_the_real_check(tmp_path):
     assert "pmax_ratio_6_0" in Path(figure).with_suffix(".txt").read_text()
 
 
-def test_every_statement_with_runs_has_its_figures(tmp_path):
+def test_every_statement_with_runs_has_its_figures(tmp_path, monkeypatch):
     results = tmp_path / "results"
     paper_runs.store_halving(results)
     data = paper_repro.build(results=results, out=tmp_path / "out")
@@ -131,8 +134,13 @@ def test_every_statement_with_runs_has_its_figures(tmp_path):
     assert names["fig3b"] == ["trends_angle_angle_P_max.png"]
     assert names["fig6"] == ["trends_angle_angle_displacement.png"]
     assert names["fig7a"] == ["trends_angle_angle_W_rms.png"]
-    assert names["fig5"] == []  # the stored runs hold no stage_fields.csv: said, not drawn
-    assert "does not store stage_fields.csv" in statement(data, "fig5")["gap"]
+    assert names["fig5"] == []  # these synthetic runs hold no stage_fields.csv: nothing to draw
+    # The campaign stores the stage fields, so no gap is named; a campaign that did not
+    # would be said.
+    assert store.KEEP.match("stage_fields.csv") and statement(data, "fig5")["gap"] == ""
+    monkeypatch.setattr(store, "KEEP", re.compile(r"^(run\.json|cycles\.csv)$"))
+    without = paper_repro.build(results=results, out=tmp_path / "out_without")
+    assert "does not store stage_fields.csv" in statement(without, "fig5")["gap"]
     for figures in names.values():
         for name in figures:
             assert (tmp_path / "out" / "figures" / name).with_suffix(".txt").is_file()
