@@ -4,11 +4,14 @@ stop before any work with the file and field named."""
 
 import json
 import os
+import signal
 import subprocess
 import sys
+import time
 from pathlib import Path
 
 import numpy as np
+import pandas as pd
 import pytest
 from scipy import stats
 
@@ -142,4 +145,46 @@ def test_bad_engine_option_stops_before_any_work(tmp_path, engine, expected):
     r = call(plan, "--out", tmp_path / "out", "--engine", engine)
     assert r.returncode == 2
     assert expected in r.stderr
+    assert not (tmp_path / "out").exists()
+
+
+def test_a_stopped_plan_goes_on_from_the_checkpoints(done, tmp_path):
+    """SIGTERM to the tool stops its runs at a checkpoint (exit 3); the same command then
+    resumes them, and each run's timeseries is byte for byte that of the plan never
+    stopped (the `done` fixture; the wall-clock time_* columns aside)."""
+    _, ref = done
+    plan = write_plan(tmp_path)
+    fields = json.loads(plan.read_text())
+    fields["set"]["outputs.checkpoint_every"] = 20  # no effect on the results, only on where a run can resume
+    plan.write_text(json.dumps(fields))
+    out = tmp_path / "out"
+    (out / "packs").mkdir(parents=True)
+    for p in (ref / "packs").glob("*.state"):  # the same beds, not poured again
+        (out / "packs" / p.name).write_bytes(p.read_bytes())
+    proc = subprocess.Popen(["/usr/bin/python3", str(TOOL), str(plan), "--out", str(out)],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    deadline = time.monotonic() + 120
+    while not list((out / "runs").glob("*/checkpoint.state")) and proc.poll() is None and time.monotonic() < deadline:
+        time.sleep(0.01)
+    assert proc.poll() is None, "the plan ended before it could be stopped: lengthen its runs"
+    proc.send_signal(signal.SIGTERM)
+    _, err = proc.communicate(timeout=120)
+    assert proc.returncode == 3, err
+    assert "run the same command again" in err
+    assert any(not (d / "run.json").is_file() or json.loads((d / "run.json").read_text())["status"] != "completed"
+               for d in (out / "runs").iterdir() if d.is_dir())
+    r = call(plan, "--out", out)
+    assert r.returncode == 0, r.stderr
+    for name in ("rigid", "soft"):
+        for s in (1, 2):
+            a = pd.read_csv(out / "runs" / f"{name}-s{s}" / "timeseries.csv", dtype=str)
+            b = pd.read_csv(ref / "runs" / f"{name}-s{s}" / "timeseries.csv", dtype=str)
+            keep = [c for c in a.columns if not c.startswith("time_")]
+            pd.testing.assert_frame_equal(a[keep], b[keep])
+
+
+def test_a_bad_budget_stops_before_any_work(tmp_path):
+    r = call(write_plan(tmp_path), "--out", tmp_path / "out", "--budget", "0")
+    assert r.returncode == 2
+    assert "--budget: expected a positive number of hours, got 0.0" in r.stderr
     assert not (tmp_path / "out").exists()
