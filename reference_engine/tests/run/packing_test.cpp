@@ -258,7 +258,7 @@ TEST(Packing, SolveKnobsMayDifferFromThePackingsScene) {
   json knobs = with(with(with(bed(), "solver.tolerance", 1e-7), "solver.max_iterations", 5000), "solver.criterion",
                     "velocity");
   knobs = with(with(knobs, "solver.acceleration", "anderson"), "solver.anderson_depth", 3);
-  knobs = with(with(knobs, "solver.compliance", 0.03), "solver.p_gap", 0.3);
+  knobs = with(with(with(knobs, "solver.compliance", 0.03), "solver.p_gap", 0.3), "solver.method", "nsgs");
   World w(build_scene(knobs, "knobs.json"));
   EXPECT_NE(packing_key(w.scene()), packing_key(build_scene(bed(), "a.json")));
   EXPECT_NO_THROW((void)load_packing(file, w));

@@ -273,6 +273,13 @@ TEST(Scene, SolverCriterionIsImpulseOrVelocity) {
   EXPECT_EQ(build_scene(j, "s.json").solver.criterion, Criterion::Velocity);
   j["solver"]["criterion"] = "Quad";
   EXPECT_THAT(error_of(j), HasSubstr("scene.json: field 'solver.criterion': expected \"impulse\" or \"velocity\", got \"Quad\""));
+  // solver.method: one method so far, named; any other is refused with the names known.
+  j["solver"] = json::object();
+  EXPECT_EQ(build_scene(j, "s.json").solver.method, SolverMethod::Nsgs);  // the default
+  j["solver"]["method"] = "nsgs";
+  EXPECT_EQ(build_scene(j, "s.json").solver.method, SolverMethod::Nsgs);
+  j["solver"]["method"] = "pgs";
+  EXPECT_THAT(error_of(j), HasSubstr("scene.json: field 'solver.method': expected \"nsgs\", got \"pgs\""));
 }
 
 TEST(Scene, DegeneratePolyhedronIsRefusedWithItsField) {

@@ -12,8 +12,8 @@
 namespace ratchet {
 namespace {
 
-NsgsSettings settings(int depth) {
-  NsgsSettings s;
+SolveSettings settings(int depth) {
+  SolveSettings s;
   s.max_iterations = 100000;
   s.tolerance = 1e-10;
   s.rotation = false;
@@ -24,8 +24,8 @@ NsgsSettings settings(int depth) {
 TEST(Anderson, SameImpulsesAsPlainSweepsInFarFewerSweeps) {
   test::Column plain(40, 0.04, 0.5), fast(40, 0.04, 0.5);
   SolverBodies bp = plain.bodies(), bf = fast.bodies();
-  const NsgsResult rp = solve_nsgs(plain.rows, bp, settings(0), plain.scratch);
-  const NsgsResult rf = solve_nsgs(fast.rows, bf, settings(5), fast.scratch);
+  const SolveResult rp = solve_nsgs(plain.rows, bp, settings(0), plain.scratch);
+  const SolveResult rf = solve_nsgs(fast.rows, bf, settings(5), fast.scratch);
   ASSERT_TRUE(rp.converged);
   ASSERT_TRUE(rf.converged);
   // Plain sweeps need O(n^2) on a column of n; the acceleration must cut that at least

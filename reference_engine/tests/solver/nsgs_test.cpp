@@ -10,8 +10,8 @@
 namespace ratchet {
 namespace {
 
-NsgsSettings settings(int cap, double tol, bool friction) {
-  NsgsSettings s;
+SolveSettings settings(int cap, double tol, bool friction) {
+  SolveSettings s;
   s.max_iterations = cap;
   s.tolerance = tol;
   s.friction = friction;
@@ -22,7 +22,7 @@ NsgsSettings settings(int cap, double tol, bool friction) {
 TEST(Nsgs, ColumnCarriesTheWeightOfEverythingAbove) {
   test::Column c(10, 0.04, 0.5);
   SolverBodies b = c.bodies();
-  const NsgsResult r = solve_nsgs(c.rows, b, settings(100000, 1e-12, true), c.scratch);
+  const SolveResult r = solve_nsgs(c.rows, b, settings(100000, 1e-12, true), c.scratch);
   EXPECT_TRUE(r.converged);
   EXPECT_GT(r.sweeps, 10);  // the load travels about one contact per sweep
   for (int k = 0; k < c.n; ++k) {
@@ -37,7 +37,7 @@ TEST(Nsgs, ColumnCarriesTheWeightOfEverythingAbove) {
 TEST(Nsgs, StopsAtTheCapAndSaysItDidNotConverge) {
   test::Column c(30, 0.04, 0.0);
   SolverBodies b = c.bodies();
-  const NsgsResult r = solve_nsgs(c.rows, b, settings(5, 1e-10, false), c.scratch);
+  const SolveResult r = solve_nsgs(c.rows, b, settings(5, 1e-10, false), c.scratch);
   EXPECT_FALSE(r.converged);
   EXPECT_EQ(r.sweeps, 5);
   EXPECT_GT(r.residual, 1e-10);
@@ -46,9 +46,9 @@ TEST(Nsgs, StopsAtTheCapAndSaysItDidNotConverge) {
 TEST(Nsgs, VelocityCriterionMeasuresTheBodiesNotTheImpulses) {
   test::Column c(10, 0.04, 0.5);
   SolverBodies b = c.bodies();
-  NsgsSettings s = settings(100000, 1e-10, true);
+  SolveSettings s = settings(100000, 1e-10, true);
   s.by_velocity = true;
-  const NsgsResult r = solve_nsgs(c.rows, b, s, c.scratch);
+  const SolveResult r = solve_nsgs(c.rows, b, s, c.scratch);
   EXPECT_TRUE(r.converged);
   // The velocity residual is the sweep's change of the velocities in the kinetic-energy
   // norm, relative to all the contacts changed: at convergence the column is at rest.
@@ -76,7 +76,7 @@ TEST(Nsgs, CompliantColumnSolvesTheCompliantLaw) {
   test::Column c(10, 0.04, 0.5);
   make_compliant(c, epsilon);
   SolverBodies b = c.bodies();
-  const NsgsResult r = solve_nsgs(c.rows, b, settings(100000, 1e-13, true), c.scratch);
+  const SolveResult r = solve_nsgs(c.rows, b, settings(100000, 1e-13, true), c.scratch);
   ASSERT_TRUE(r.converged);
   Eigen::MatrixXd A = Eigen::MatrixXd::Zero(c.n, c.n);
   Eigen::VectorXd rhs = Eigen::VectorXd::Zero(c.n);
@@ -103,7 +103,7 @@ TEST(Nsgs, CompliantColumnSolvesTheCompliantLaw) {
   test::Column fast(10, 0.04, 0.5);
   make_compliant(fast, epsilon);
   SolverBodies bf = fast.bodies();
-  NsgsSettings sf = settings(100000, 1e-13, true);
+  SolveSettings sf = settings(100000, 1e-13, true);
   sf.anderson_depth = 5;
   ASSERT_TRUE(solve_nsgs(fast.rows, bf, sf, fast.scratch).converged);
   for (int k = 0; k < c.n; ++k)
@@ -126,7 +126,7 @@ TEST(Nsgs, CompliantSweepCountDoesNotGrowWithDepth) {
     test::Column c(n, 0.04, 0.0);
     make_compliant(c, epsilon);
     SolverBodies b = c.bodies();
-    const NsgsResult r = solve_nsgs(c.rows, b, settings(1000000, 1e-8, false), c.scratch);
+    const SolveResult r = solve_nsgs(c.rows, b, settings(1000000, 1e-8, false), c.scratch);
     EXPECT_TRUE(r.converged) << n << " " << epsilon;
     return r.sweeps;
   };
@@ -141,7 +141,7 @@ TEST(Nsgs, NoRowsIsConvergedWithNoSweep) {
   test::Column c(3, 0.04, 0.5);
   c.rows.clear();
   SolverBodies b = c.bodies();
-  const NsgsResult r = solve_nsgs(c.rows, b, settings(100, 1e-4, true), c.scratch);
+  const SolveResult r = solve_nsgs(c.rows, b, settings(100, 1e-4, true), c.scratch);
   EXPECT_TRUE(r.converged);
   EXPECT_EQ(r.sweeps, 0);
 }
@@ -158,7 +158,7 @@ PushCase push_off_the_floor(double g_h, double cap, bool friction) {
   c.rows[0].bias = -5.0;
   c.rows[0].bias_capped = cap > 0.0 ? -cap : 0.0;
   SolverBodies b = c.bodies();
-  const NsgsResult r = solve_nsgs(c.rows, b, settings(100, 1e-14, friction), c.scratch);
+  const SolveResult r = solve_nsgs(c.rows, b, settings(100, 1e-14, friction), c.scratch);
   EXPECT_TRUE(r.converged);
   return {c.rows[0].lambda[0], c.v[0].z()};
 }

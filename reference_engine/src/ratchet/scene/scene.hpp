@@ -29,6 +29,12 @@ enum class Criterion {
              // the velocity the contact impulses give (blind to redundant impulses)
 };
 
+// The global contact solve (solver.method; World::solve's one switch). A new method is a
+// file in solver/ with solve_nsgs's signature, an entry here and a case there.
+enum class SolverMethod {
+  Nsgs,  // non-linear Gauss-Seidel with the exact local Coulomb solve (solver/nsgs.hpp)
+};
+
 // How the Gauss-Seidel fixed point is reached (docs/method.md s. 7).
 enum class Acceleration {
   None,      // plain sweeps
@@ -36,6 +42,7 @@ enum class Acceleration {
 };
 
 struct SolverSettings {
+  SolverMethod method = SolverMethod::Nsgs;
   double tolerance = 1e-4;  // on the criterion's relative change between sweeps (docs/method.md s. 7)
   Criterion criterion = Criterion::Impulse;
   int max_iterations = 1000;

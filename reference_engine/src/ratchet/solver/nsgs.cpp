@@ -152,9 +152,9 @@ void write_extrapolated(std::vector<SolverRow>& cs, const AndersonMixer& mixer, 
 //   eq. 40), so impulses that only move load between redundant contacts of a
 //   hyperstatic packing (the null space of H^T) do not count. Close to LMGC90's 'Quad'
 //   norm.
-NsgsResult solve_nsgs(std::vector<SolverRow>& cs, SolverBodies& B, const NsgsSettings& set,
+SolveResult solve_nsgs(std::vector<SolverRow>& cs, SolverBodies& B, const SolveSettings& set,
                         SolverScratch& s) {
-  NsgsResult out;
+  SolveResult out;
   const double tol = set.tolerance;
   const bool friction = set.friction, rotation = set.rotation;
   int it = 0;

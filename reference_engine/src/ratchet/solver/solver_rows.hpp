@@ -10,6 +10,7 @@
 
 #include "ratchet/core/contact_side.hpp"
 #include "ratchet/core/types.hpp"
+#include "ratchet/solver/row_colouring.hpp"
 
 namespace ratchet {
 
@@ -94,6 +95,29 @@ inline Vec3 local_velocity(const SolverRow& r, const BodyArrays& B, bool rotatio
     if (rotation) B.w[r.b] -= B.inv_inertia[r.b] * (r.Jb.transpose() * d);
   }
 }
+
+// What a solve is asked (from the scene's solver section) and what it reports, the same
+// for every method (World::solve chooses the method by solver.method).
+struct SolveSettings {
+  double tolerance = 1e-4;
+  int max_iterations = 100;
+  bool by_velocity = false;  // solver.criterion: velocity (else impulse)
+  bool friction = true;
+  bool rotation = true;
+  int anderson_depth = 0;    // > 0: Anderson acceleration with this memory (solver/anderson.hpp)
+  int parallel_min_rows = kParallelMinRows;
+  const RowColouring* colouring = nullptr;  // the rows' colouring (parallel sweep), or null: one thread in row order
+};
+
+struct SolveResult {
+  int sweeps = 0;
+  double residual = 0.0;
+  bool converged = true;
+  bool normal_growth = false;          // unconverged, and the normal impulses still grew
+  std::int64_t tangential_solves = 0;  // local solves with friction in this call
+  int restarts = 0;                    // Anderson history restarts
+  bool plain_fallback = false;         // the acceleration stalled and plain sweeps finished
+};
 
 // What a solve keeps between sweeps: the velocities before the contact impulses (set
 // by World::solve before the warm start, once: the velocity criterion's reference and

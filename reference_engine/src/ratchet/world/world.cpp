@@ -148,7 +148,7 @@ void World::solve() {
   build_rows();
   SolverBodies bodies{state_.v, state_.w, scratch_.inv_mass, scratch_.inv_inertia, scratch_.R,
                       body_mass_, body_inertia_, scratch_.scale};
-  NsgsSettings settings;
+  SolveSettings settings;
   settings.tolerance = scene_.solver.tolerance;
   settings.max_iterations = scene_.solver.max_iterations;
   settings.by_velocity = scene_.solver.criterion == Criterion::Velocity;
@@ -160,14 +160,14 @@ void World::solve() {
   scratch_.solver.v_free = state_.v;  // stored once: the velocity criterion and the jam's re-solve read it
   scratch_.solver.w_free = state_.w;
   warm_start(bodies);
-  NsgsResult r = solve_nsgs(scratch_.rows, bodies, settings, scratch_.solver);
+  SolveResult r = solve_contacts(bodies, settings);
   int sweeps = r.sweeps;
   std::int64_t tangential = r.tangential_solves;
   const bool jammed = r.normal_growth && scene_.solver.compliance == 0.0;
   const double first_residual = r.residual;
   if (jammed) {
     yield_to_jam(bodies);
-    r = solve_nsgs(scratch_.rows, bodies, settings, scratch_.solver);
+    r = solve_contacts(bodies, settings);
     sweeps += r.sweeps;
     tangential += r.tangential_solves;
     ++stats_.jammed_steps;
@@ -180,6 +180,14 @@ void World::solve() {
   stats_.tangential_solves += tangential;
   stats_.total_iterations += sweeps;
   for (std::size_t k = 0; k < scratch_.contacts.size(); ++k) scratch_.contacts[k].lambda = scratch_.rows[k].lambda;
+}
+
+// 4a. The global solve of the step's rows by solver.method: the one place a method is chosen.
+SolveResult World::solve_contacts(SolverBodies& bodies, const SolveSettings& settings) {
+  switch (scene_.solver.method) {
+    case SolverMethod::Nsgs: return solve_nsgs(scratch_.rows, bodies, settings, scratch_.solver);
+  }
+  throw std::logic_error(scene_.source + ": solver.method without a solve");  // unreachable: the reader refuses it
 }
 
 // 4b. A rigid problem with no solution (the normal impulses still grew at the cap): bodies

@@ -90,6 +90,7 @@ class World {
   void thermal();
   void detect();
   void solve();
+  SolveResult solve_contacts(SolverBodies& bodies, const SolveSettings& settings);
   void yield_to_jam(SolverBodies& bodies);
   void integrate();
   void keep_impulses();
