@@ -21,8 +21,8 @@ void read_effects(const Reader& r, const json& j, Effects& e) {
 
 void read_solver(const Reader& r, const json& j, SolverSettings& s) {
   const std::string p = "solver";
-  r.object(j, p, {"method", "tolerance", "criterion", "max_iterations", "theta", "p_gap", "warm_start", "contact_margin", "threads",
-                  "acceleration", "anderson_depth", "compliance", "manifold_reuse"});
+  r.object(j, p, {"tolerance", "criterion", "max_iterations", "theta", "p_gap", "warm_start", "contact_margin", "threads",
+                  "acceleration", "anderson_depth", "compliance", "manifold_reuse", "method"});
   if (j.contains("method")) {
     const json& m = j.at("method");
     if (m == "nsgs") s.method = SolverMethod::Nsgs;
