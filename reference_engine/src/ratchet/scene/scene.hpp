@@ -87,7 +87,9 @@ struct ContainerDef {
   std::vector<WallDef> walls;
 };
 
-enum class ShapeKind { Sphere, Polyhedron };
+// A body's kind of shape. Count is the number of kinds: it sizes the collision tables
+// (contact/collide.cpp).
+enum class ShapeKind { Sphere, Polyhedron, Count };
 
 struct BodyDef {
   ShapeKind kind = ShapeKind::Sphere;
