@@ -140,7 +140,9 @@ Vec3 World::wall_point(int wall) const {
   return c0 + state_.s_c * (w.point - c0);
 }
 
-double World::body_scale(int i) const { return scene_.bodies[static_cast<std::size_t>(i)].fixed ? 1.0 : state_.s_p; }
+double World::body_scale(int i) const {
+  return ratchet::body_scale(scene_.bodies[static_cast<std::size_t>(i)], state_.s_p);
+}
 
 // 4. Solve: the rows of this step's contacts, their warm start, the global solve
 // (solver/nsgs.hpp).

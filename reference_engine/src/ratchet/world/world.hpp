@@ -83,7 +83,7 @@ class World {
 
   // Observables of the current state are functions of (scene, state) in observe/.
   Vec3 wall_point(int wall) const;      // current point of a wall (container scale)
-  double body_scale(int i) const;       // thermal scale of body i: s_p, or 1 for a fixed body
+  double body_scale(int i) const;       // thermal scale of body i (scene.hpp, body_scale)
 
  private:
   void free_velocity();
