@@ -98,9 +98,9 @@ nlohmann::json RunObservers::finish(const World& world) {
   nlohmann::json summary;
   // Every observable below may rest on steps the solver left at its cap: say how many.
   const std::int64_t steps = world.state().step - first_step_;
-  summary["unconverged_steps"] = world.stats().unconverged_steps;
+  summary["unconverged_steps"] = world.totals().unconverged_steps;
   summary["unconverged_fraction"] =
-      steps > 0 ? static_cast<double>(world.stats().unconverged_steps) / static_cast<double>(steps) : 0.0;
+      steps > 0 ? static_cast<double>(world.totals().unconverged_steps) / static_cast<double>(steps) : 0.0;
   volume_.summarize(world, summary);
   if (!clock_.thermal()) return summary;
   peaks_.summarize(clock_.cycles_reached(), summary);
