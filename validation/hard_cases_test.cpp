@@ -239,7 +239,7 @@ TEST(HardCases, CappedSolverCompletesAndCountsEveryCappedStep) {
   EXPECT_TRUE(check_energy_gain(name, o));
   EXPECT_TRUE(validation::check_near(name, "steps counted unconverged - steps seen unconverged",
                                      static_cast<double>(o.unconverged - o.capped_seen), 0.0, 0.0,
-                                     "World::stats().unconverged_steps counts every capped step"));
+                                     "World::totals().unconverged_steps counts every capped step"));
   EXPECT_TRUE(validation::record(name, "capped-step warning in RunResult::warnings", warned(o, "max_iterations = 2") ? 1 : 0,
                                  "1", "exact", warned(o, "max_iterations = 2"),
                                  "the run reports its capped steps (run.json warnings)"));

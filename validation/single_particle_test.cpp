@@ -107,7 +107,7 @@ JamTrace run_jam(const SceneDef& scene) {
     }
     j.force_end = F;
   });
-  j.jammed_steps = world.stats().jammed_steps;
+  j.jammed_steps = world.totals().jammed_steps;
   return j;
 }
 

@@ -45,8 +45,8 @@ Outcome run_scene(const nlohmann::json& j, const std::function<void(const SceneD
     o.error = e.what();
   }
   o.steps = world.state().step;
-  o.unconverged = world.stats().unconverged_steps;
-  o.jammed = world.stats().jammed_steps;
+  o.unconverged = world.totals().unconverged_steps;
+  o.jammed = world.totals().jammed_steps;
   std::printf("[%s] excess %.4g  mass %.4g  steps %lld  KE max %.6g  E0 %.6g  KE end %.3g  overlap max %.4g  r_min %.3g  capped %lld of %lld "
               "with contacts  %s\n",
               s.name.c_str(), o.e_excess, o.mass, static_cast<long long>(o.steps), o.ke_max, o.e0, o.ke_end, o.overlap_max, o.r_min,

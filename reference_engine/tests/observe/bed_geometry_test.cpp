@@ -68,8 +68,8 @@ TEST(BedGeometry, BedHeightIsTheHighestPointOfTheMovingBodies) {
   EXPECT_EQ(bed_points(s, st).size(), 14u);
   st.s_p = 2.0;  // the sphere's top at z + s_p r
   EXPECT_EQ(bed_height(s, st), 2.0);
-  EXPECT_EQ(body_scale(s, st, 0), 2.0);
-  EXPECT_EQ(body_scale(s, st, 1), 1.0);  // fixed bodies keep scale 1
+  EXPECT_EQ(body_scale(s.bodies[0], st.s_p), 2.0);
+  EXPECT_EQ(body_scale(s.bodies[1], st.s_p), 1.0);  // fixed bodies keep scale 1
   st.x[0] = Vec3(0, 0, -5);  // below the floor: never below 0
   EXPECT_EQ(bed_height(s, st), 0.0);
 }

@@ -83,8 +83,8 @@ TEST(World, FrictionlessSceneSolvesNoTangentialPart) {
   j["effects"] = {{"friction", false}};
   World world(build_scene(j, "heap.json"));
   run_world(world, {});
-  EXPECT_GT(world.stats().total_iterations, 0);
-  EXPECT_EQ(world.stats().tangential_solves, 0);
+  EXPECT_GT(world.totals().total_iterations, 0);
+  EXPECT_EQ(world.totals().tangential_solves, 0);
 }
 
 TEST(World, GravityOffRunsNoFreeVelocityPhase) {

@@ -9,7 +9,7 @@ namespace ratchet {
 
 namespace {
 
-constexpr int kKinds = 2;  // ShapeKind::Sphere, ShapeKind::Polyhedron
+constexpr std::size_t kKinds = static_cast<std::size_t>(ShapeKind::Count);
 
 using PairFn = void (*)(const CollisionBody&, const CollisionBody&, double, CommonPlaneCache&, ContactManifold&);
 using WallFn = void (*)(const CollisionBody&, const Vec3&, const Vec3&, double, ContactManifold&);
@@ -22,17 +22,6 @@ void sphere_sphere(const CollisionBody& a, const CollisionBody& b, double margin
 void sphere_polyhedron(const CollisionBody& a, const CollisionBody& b, double margin, CommonPlaneCache&,
                        ContactManifold& m) {
   collide_sphere_polyhedron(a.center, a.radius, b.poly, margin, m);
-}
-
-// Solved as (sphere, polyhedron), then flipped to the pair's A -> B convention.
-void polyhedron_sphere(const CollisionBody& a, const CollisionBody& b, double margin, CommonPlaneCache&,
-                       ContactManifold& m) {
-  collide_sphere_polyhedron(b.center, b.radius, a.poly, margin, m);
-  for (int c = 0; c < m.count; ++c) {
-    ContactPoint& p = m.points[static_cast<std::size_t>(c)];
-    p.normal = -p.normal;
-    std::swap(p.feature_a, p.feature_b);
-  }
 }
 
 void polyhedron_polyhedron(const CollisionBody& a, const CollisionBody& b, double margin, CommonPlaneCache& cache,
@@ -48,14 +37,56 @@ void polyhedron_wall(const CollisionBody& a, const Vec3& n, const Vec3& p, doubl
   collide_polyhedron_plane(a.poly, n, p, margin, m);
 }
 
-// [kind of A][kind of B], in the order of ShapeKind.
-constexpr std::array<std::array<PairFn, kKinds>, kKinds> kPairTable = {{
-    {{sphere_sphere, sphere_polyhedron}},
-    {{polyhedron_sphere, polyhedron_polyhedron}},
-}};
-constexpr std::array<WallFn, kKinds> kWallTable = {{sphere_wall, polyhedron_wall}};
+// F for the pair in the other order: solved as (B, A), then turned to the pair's A -> B
+// convention (normals reversed, features swapped).
+template <PairFn F>
+void flipped(const CollisionBody& a, const CollisionBody& b, double margin, CommonPlaneCache& cache,
+             ContactManifold& m) {
+  F(b, a, margin, cache, m);
+  for (int c = 0; c < m.count; ++c) {
+    ContactPoint& p = m.points[static_cast<std::size_t>(c)];
+    p.normal = -p.normal;
+    std::swap(p.feature_a, p.feature_b);
+  }
+}
 
-int index(ShapeKind k) { return static_cast<int>(k); }
+constexpr std::size_t index(ShapeKind k) { return static_cast<std::size_t>(k); }
+
+struct Tables {
+  std::array<std::array<PairFn, kKinds>, kKinds> pair{};  // [kind of A][kind of B]
+  std::array<WallFn, kKinds> wall{};
+};
+
+// One function per unordered pair of kinds, registered for both orders (as Box2D's
+// b2AddType).
+template <PairFn F>
+constexpr void add_pair(Tables& t, ShapeKind a, ShapeKind b) {
+  t.pair[index(a)][index(b)] = F;
+  if (a != b) t.pair[index(b)][index(a)] = flipped<F>;
+}
+
+constexpr Tables make_tables() {
+  Tables t;
+  add_pair<sphere_sphere>(t, ShapeKind::Sphere, ShapeKind::Sphere);
+  add_pair<sphere_polyhedron>(t, ShapeKind::Sphere, ShapeKind::Polyhedron);
+  add_pair<polyhedron_polyhedron>(t, ShapeKind::Polyhedron, ShapeKind::Polyhedron);
+  t.wall[index(ShapeKind::Sphere)] = sphere_wall;
+  t.wall[index(ShapeKind::Polyhedron)] = polyhedron_wall;
+  return t;
+}
+
+constexpr Tables kTables = make_tables();
+
+// A kind added to ShapeKind without its functions fails here, not in a run.
+constexpr bool complete(const Tables& t) {
+  for (std::size_t a = 0; a < kKinds; ++a) {
+    if (t.wall[a] == nullptr) return false;
+    for (std::size_t b = 0; b < kKinds; ++b)
+      if (t.pair[a][b] == nullptr) return false;
+  }
+  return true;
+}
+static_assert(complete(kTables), "every pair of shape kinds and every kind against a wall needs a function");
 
 }  // namespace
 
@@ -65,12 +96,11 @@ int placed_vertex_count(const SceneDef& scene, const BodyDef& body) {
 
 void collide_pair(const CollisionBody& a, const CollisionBody& b, double margin, CommonPlaneCache& cache,
                   ContactManifold& out) {
-  kPairTable[static_cast<std::size_t>(index(a.kind))][static_cast<std::size_t>(index(b.kind))](a, b, margin, cache,
-                                                                                              out);
+  kTables.pair[index(a.kind)][index(b.kind)](a, b, margin, cache, out);
 }
 
 void collide_wall(const CollisionBody& a, const Vec3& n, const Vec3& p, double margin, ContactManifold& out) {
-  kWallTable[static_cast<std::size_t>(index(a.kind))](a, n, p, margin, out);
+  kTables.wall[index(a.kind)](a, n, p, margin, out);
 }
 
 }  // namespace ratchet

@@ -1,8 +1,9 @@
 // Collision dispatch: one table from (shape kind, shape kind) to the narrow-phase
 // function of that pair type, and one from shape kind to the body-against-wall
-// function (as Box2D's s_registers and MuJoCo's mjCOLLISIONFUNC). The step calls only
-// collide_pair and collide_wall; adding a contact type means a new function and a
-// table entry here, nothing in the step.
+// function (as Box2D's s_registers and MuJoCo's mjCOLLISIONFUNC), both sized by
+// ShapeKind::Count. The step calls only collide_pair and collide_wall; adding a contact
+// type means a new function and one add_pair line in collide.cpp, which registers it
+// for both orders of the pair; a table left incomplete does not compile.
 #pragma once
 
 #include "ratchet/contact/common_plane.hpp"

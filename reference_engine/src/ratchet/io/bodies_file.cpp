@@ -3,6 +3,7 @@
 #include <stdexcept>
 
 #include "ratchet/io/atomic_file.hpp"
+#include "ratchet/scene/shape_kinds.hpp"
 
 namespace ratchet {
 
@@ -11,16 +12,6 @@ namespace {
 using ojson = nlohmann::ordered_json;
 
 ojson vec(const Vec3& v) { return ojson::array({v.x(), v.y(), v.z()}); }
-
-const char* kind_name(ShapeKind k) {
-  switch (k) {
-    case ShapeKind::Sphere:
-      return "sphere";
-    case ShapeKind::Polyhedron:
-      return "polyhedron";
-  }
-  return "unknown";
-}
 
 }  // namespace
 
@@ -45,13 +36,12 @@ ojson bodies_document(const SceneDef& scene, const State& state) {
   ojson bodies = ojson::array();
   for (std::size_t i = 0; i < n; ++i) {
     const BodyDef& b = scene.bodies[i];
-    const bool sphere = b.kind == ShapeKind::Sphere;
+    const ShapeKindFacts& kind = shape_kind(b.kind);
     const Quat& q = state.q[i];
     ojson j;
     j["index"] = i;
-    j["kind"] = kind_name(b.kind);
-    j["radius"] = sphere ? ojson(b.radius) : ojson(nullptr);
-    j["shape"] = sphere ? ojson(nullptr) : ojson(b.shape);
+    j["kind"] = kind.name();
+    kind.write_fields(b, j);
     j["position"] = vec(state.x[i]);
     j["orientation"] = ojson::array({q.w(), q.x(), q.y(), q.z()});
     j["velocity"] = vec(state.v[i]);

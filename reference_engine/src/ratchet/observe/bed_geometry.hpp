@@ -5,26 +5,14 @@
 
 #include <vector>
 
-#include "ratchet/scene/scene.hpp"
+#include "ratchet/scene/shape_kinds.hpp"
 #include "ratchet/world/state.hpp"
 
 namespace ratchet {
 
-// Thermal scale of body i: s_p, or 1 for a fixed body (as the step scales it).
-double body_scale(const SceneDef& scene, const State& state, int i);
-
-// Body i as the state places it, at its thermal scale.
-struct PlacedBody {
-  // Points whose convex hull is the body: a polyhedron's world vertices; for a sphere
-  // its 6 axis points and 8 diagonal surface points (an inscribed approximation).
-  std::vector<Vec3> points;
-  double top = 0.0;            // highest z: the sphere's top, the highest vertex
-  double sphere_radius = 0.0;  // > 0: a sphere of this radius, centred at state.x[i]
-  const std::vector<std::vector<int>>* faces = nullptr;  // a polyhedron's faces (indices into points)
-};
-
-// Fills `out` (its storage is reused). The one place observables look at shape kinds:
-// a new kind is added here and every observable follows.
+// Body i as the state places it, at its thermal scale, by its shape kind
+// (scene/shape_kinds.hpp): every observable follows a new kind without a change here.
+// Fills `out` (its storage is reused).
 void place_body(const SceneDef& scene, const State& state, int i, PlacedBody& out);
 
 // The points of place_body of every non-fixed body, in body order.

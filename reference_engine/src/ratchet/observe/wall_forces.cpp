@@ -1,5 +1,7 @@
 #include "ratchet/observe/wall_forces.hpp"
 
+#include "ratchet/core/contact_side.hpp"
+
 namespace ratchet {
 
 std::vector<int> side_wall_indices(const SceneDef& scene) {
@@ -13,8 +15,8 @@ std::vector<double> side_segment_forces(const SceneDef& scene, const std::vector
   const std::vector<int> sides = side_wall_indices(scene);
   std::vector<double> f(sides.size(), 0.0);
   for (const SolverContact& c : contacts) {
-    if (c.b >= 0) continue;
-    const int w = -1 - c.b;
+    if (!is_wall(c.b)) continue;
+    const int w = wall_index(c.b);
     for (std::size_t k = 0; k < sides.size(); ++k)
       if (sides[k] == w) f[k] += c.lambda[0] / scene.dt;
   }
@@ -26,7 +28,8 @@ void side_wall_contacts(const SceneDef& scene, const std::vector<SolverContact>&
   z.clear();
   force.clear();
   for (const SolverContact& c : contacts) {
-    if (c.b >= 0 || scene.container.walls[static_cast<std::size_t>(-1 - c.b)].role != WallRole::Side) continue;
+    if (!is_wall(c.b) || scene.container.walls[static_cast<std::size_t>(wall_index(c.b))].role != WallRole::Side)
+      continue;
     z.push_back(c.geometry.point.z());
     force.push_back(c.lambda[0] / scene.dt);
   }

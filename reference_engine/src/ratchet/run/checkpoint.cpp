@@ -21,10 +21,10 @@ nlohmann::json progress_json(const WorldProgress& p) {
           {"start_time", json_number(p.start_time)},
           {"duration", json_number(p.duration)},
           {"steps", p.steps},
-          {"tangential_solves", p.tangential_solves},
-          {"total_iterations", p.total_iterations},
-          {"unconverged_steps", p.unconverged_steps},
-          {"jammed_steps", p.jammed_steps},
+          {"tangential_solves", p.totals.tangential_solves},
+          {"total_iterations", p.totals.total_iterations},
+          {"unconverged_steps", p.totals.unconverged_steps},
+          {"jammed_steps", p.totals.jammed_steps},
           {"phase_seconds", seconds},
           {"phase_calls", calls}};
 }
@@ -35,10 +35,10 @@ WorldProgress progress_from_json(const nlohmann::json& j) {
   p.start_time = number_from_json(j.at("start_time"));
   p.duration = number_from_json(j.at("duration"));
   p.steps = j.at("steps").get<std::int64_t>();
-  p.tangential_solves = j.at("tangential_solves").get<std::int64_t>();
-  p.total_iterations = j.at("total_iterations").get<std::int64_t>();
-  p.unconverged_steps = j.at("unconverged_steps").get<std::int64_t>();
-  p.jammed_steps = j.at("jammed_steps").get<std::int64_t>();
+  p.totals.tangential_solves = j.at("tangential_solves").get<std::int64_t>();
+  p.totals.total_iterations = j.at("total_iterations").get<std::int64_t>();
+  p.totals.unconverged_steps = j.at("unconverged_steps").get<std::int64_t>();
+  p.totals.jammed_steps = j.at("jammed_steps").get<std::int64_t>();
   const auto& seconds = j.at("phase_seconds");
   const auto& calls = j.at("phase_calls");
   if (seconds.size() != p.timers.seconds.size() || calls.size() != p.timers.calls.size())

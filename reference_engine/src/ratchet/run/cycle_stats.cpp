@@ -1,6 +1,9 @@
 #include "ratchet/run/cycle_stats.hpp"
 
+#include <algorithm>
+
 #include "ratchet/io/json_numbers.hpp"
+#include "ratchet/run/run_output.hpp"
 
 namespace ratchet {
 
@@ -27,6 +30,17 @@ void CycleStats::restore(const nlohmann::json& j) {
   for (const auto& c : j)
     cycles_.push_back({number_from_json(c.at(0)), number_from_json(c.at(1)), c.at(2).get<long long>(),
                        c.at(3).get<long long>()});
+}
+
+void CycleStats::cycle_columns(std::vector<std::string>& names) const {
+  names.insert(names.end(), {"contacts_mean", "iterations_mean", "unconverged_steps"});
+}
+
+void CycleStats::cycle_cells(int cycle, std::vector<std::string>& cells) const {
+  const CycleSolverStats s = at(cycle);
+  cells.push_back(format_double(s.contacts_sum / std::max<long long>(1, s.steps)));
+  cells.push_back(format_double(s.iterations_sum / std::max<long long>(1, s.steps)));
+  cells.push_back(std::to_string(s.unconverged));
 }
 
 }  // namespace ratchet

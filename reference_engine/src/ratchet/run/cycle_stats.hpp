@@ -6,7 +6,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "ratchet/run/cycle_clock.hpp"
+#include "ratchet/run/accumulator.hpp"
 #include "ratchet/world/world.hpp"
 
 namespace ratchet {
@@ -16,17 +16,19 @@ struct CycleSolverStats {
   long long steps = 0, unconverged = 0;
 };
 
-class CycleStats {
+class CycleStats final : public Accumulator {
  public:
-  void after_step(const World& world, const ClockTick& tick);
+  void after_step(const World& world, const ClockTick& tick) override;
   // The sums of `cycle`; zero if it was not reached.
   CycleSolverStats at(int cycle) const {
     return cycle >= 0 && static_cast<std::size_t>(cycle) < cycles_.size() ? cycles_[static_cast<std::size_t>(cycle)]
                                                                            : CycleSolverStats{};
   }
-  // A checkpoint's record of this accumulator (run/checkpoint.hpp), and its restore.
-  nlohmann::json save() const;
-  void restore(const nlohmann::json& j);
+  // contacts_mean, iterations_mean, unconverged_steps
+  void cycle_columns(std::vector<std::string>& names) const override;
+  void cycle_cells(int cycle, std::vector<std::string>& cells) const override;
+  nlohmann::json save() const override;
+  void restore(const nlohmann::json& j) override;
 
  private:
   std::vector<CycleSolverStats> cycles_;

@@ -66,4 +66,8 @@ void DisplacementWindows::finish(const std::string& out_dir, nlohmann::json& sum
   }
 }
 
+void DisplacementWindows::finish(const RunEnd& end, nlohmann::json& summary) const {
+  if (end.clock.thermal() && !end.out_dir.empty()) finish(end.out_dir, summary);
+}
+
 }  // namespace ratchet

@@ -9,23 +9,23 @@
 
 #include <nlohmann/json.hpp>
 
-#include "ratchet/run/cycle_clock.hpp"
+#include "ratchet/run/accumulator.hpp"
 #include "ratchet/world/world.hpp"
 
 namespace ratchet {
 
-class DisplacementWindows {
+class DisplacementWindows final : public Accumulator {
  public:
   // Snapshot 0 is the first state when it already is the start of cycling.
   DisplacementWindows(const World& world, const CycleClock& clock);
   bool enabled() const { return scene_.outputs.displacement_cell > 0.0; }
-  void after_step(const World& world, const ClockTick& tick);
+  void after_step(const World& world, const ClockTick& tick) override;
   // W_rms of each window into `summary` (null when the run did not reach its end) and
   // DIR/displacement_<a>_<b>.csv for each window reached.
   void finish(const std::string& out_dir, nlohmann::json& summary) const;
-  // A checkpoint's record of this accumulator (run/checkpoint.hpp), and its restore.
-  nlohmann::json save() const;
-  void restore(const nlohmann::json& j);
+  void finish(const RunEnd& end, nlohmann::json& summary) const override;  // the above, thermal runs with files
+  nlohmann::json save() const override;
+  void restore(const nlohmann::json& j) override;
 
  private:
   const SceneDef& scene_;

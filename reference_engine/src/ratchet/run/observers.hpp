@@ -1,24 +1,20 @@
 // The observables a scene asks for (docs/output-format.md), gathered during a run: a
 // cycle clock (run/cycle_clock.hpp) says where the run is in its thermal protocol, and
-// one accumulator per observable acts on its ticks (V/V0, pressure peaks, solver stats
-// per cycle, wall profile, displacement windows and stage fields, VTK); the
-// measurements themselves are the pure functions of observe/. Nothing is computed that outputs does not ask for.
+// the accumulators of run/accumulators.hpp act on its ticks, each supplying its columns,
+// summary entries, files and checkpoint record (run/accumulator.hpp); the measurements
+// themselves are the pure functions of observe/. Nothing is computed that outputs does
+// not ask for.
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
+#include "ratchet/run/accumulator.hpp"
 #include "ratchet/run/cycle_clock.hpp"
-#include "ratchet/run/cycle_stats.hpp"
-#include "ratchet/run/displacement_windows.hpp"
-#include "ratchet/run/pressure_peaks.hpp"
-#include "ratchet/run/stage_fields.hpp"
-#include "ratchet/run/volume_ratio.hpp"
-#include "ratchet/run/vtk_snapshots.hpp"
-#include "ratchet/run/wall_profile.hpp"
 #include "ratchet/world/world.hpp"
 
 namespace ratchet {
@@ -38,16 +34,21 @@ class RunObservers {
   // After every step.
   void after_step(const World& world);
 
-  // End of the run: writes cycles.csv, displacement_<a>_<b>.csv, stage_fields.csv,
-  // wall_profile.csv and
-  // returns the summary (P_max, V/V0, W_rms per window) for run.json.
+  // End of the run: writes cycles.csv and the accumulators' files (displacement_<a>_<b>.csv,
+  // stage_fields.csv, wall_profile.csv) and returns the summary (P_max, V/V0, W_rms per
+  // window) for run.json.
   nlohmann::json finish(const World& world);
 
   // Everything the accumulators hold, for a checkpoint.
   nlohmann::json save() const;
 
  private:
-  void add_columns();
+  struct Held {
+    const char* key;  // its record in a checkpoint; nullptr: none
+    std::unique_ptr<Accumulator> accumulator;
+  };
+
+  void make_accumulators(const World& world, bool resuming);
   void write_cycles(const std::string& path) const;
 
   const SceneDef& scene_;
@@ -55,13 +56,7 @@ class RunObservers {
   std::int64_t first_step_;    // a run from a packing starts at the packing's step
   std::vector<std::string> columns_;
   CycleClock clock_;
-  VolumeRatio volume_;
-  PressurePeaks peaks_;
-  CycleStats stats_;
-  WallProfile profile_;
-  DisplacementWindows displacement_;
-  StageFields stages_;
-  VtkSnapshots vtk_;
+  std::vector<Held> accumulators_;  // in the order of run/accumulators.hpp
 };
 
 }  // namespace ratchet

@@ -5,6 +5,7 @@
 
 #include "ratchet/io/json_numbers.hpp"
 #include "ratchet/observe/wall_pressure.hpp"
+#include "ratchet/run/run_output.hpp"
 #include "ratchet/run/time_marks.hpp"
 
 namespace ratchet {
@@ -57,6 +58,22 @@ void PressurePeaks::summarize(int cycles_reached, nlohmann::json& summary) const
   summary["P_max"] = mp.count > 0 ? nlohmann::json(mp.mean) : nlohmann::json(nullptr);
   summary["P_max_std"] = std::isfinite(mp.stddev) ? nlohmann::json(mp.stddev) : nlohmann::json(nullptr);
   summary["steady_cycles"] = {first, last};
+}
+
+void PressurePeaks::cycle_columns(std::vector<std::string>& names) const {
+  names.insert(names.end(), {"peak_pressure", "t_peak"});
+}
+
+void PressurePeaks::cycle_cells(int cycle, std::vector<std::string>& cells) const {
+  // Every cycle the clock reached has its entry: this accumulator saw the same ticks.
+  const CyclePeak p = static_cast<std::size_t>(cycle) < peaks_.size() ? peaks_[static_cast<std::size_t>(cycle)]
+                                                                      : CyclePeak{cycle, -HUGE_VAL, 0.0};
+  cells.push_back(format_double(p.value));
+  cells.push_back(format_double(p.time));
+}
+
+void PressurePeaks::finish(const RunEnd& end, nlohmann::json& summary) const {
+  if (end.clock.thermal()) summarize(end.clock.cycles_reached(), summary);
 }
 
 }  // namespace ratchet

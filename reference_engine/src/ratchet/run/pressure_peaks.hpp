@@ -9,22 +9,25 @@
 #include <nlohmann/json.hpp>
 
 #include "ratchet/observe/peaks.hpp"
-#include "ratchet/run/cycle_clock.hpp"
+#include "ratchet/run/accumulator.hpp"
 #include "ratchet/world/world.hpp"
 
 namespace ratchet {
 
-class PressurePeaks {
+class PressurePeaks final : public Accumulator {
  public:
   explicit PressurePeaks(const SceneDef& scene) : scene_(scene) {}
-  void after_step(const World& world, const ClockTick& tick);
+  void after_step(const World& world, const ClockTick& tick) override;
+  // peak_pressure, t_peak
+  void cycle_columns(std::vector<std::string>& names) const override;
+  void cycle_cells(int cycle, std::vector<std::string>& cells) const override;
   // One entry per cycle reached: value -inf when no block closed in it.
   const std::vector<CyclePeak>& peaks() const { return peaks_; }
   // P_max, P_max_std and steady_cycles over the first `cycles_reached` cycles.
   void summarize(int cycles_reached, nlohmann::json& summary) const;
-  // A checkpoint's record of this accumulator (run/checkpoint.hpp), and its restore.
-  nlohmann::json save() const;
-  void restore(const nlohmann::json& j);
+  void finish(const RunEnd& end, nlohmann::json& summary) const override;  // summarize, thermal runs only
+  nlohmann::json save() const override;
+  void restore(const nlohmann::json& j) override;
 
  private:
   const SceneDef& scene_;

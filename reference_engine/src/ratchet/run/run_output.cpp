@@ -157,10 +157,10 @@ nlohmann::json run_metadata(const World& world) {
   j["phases"] = phases;
   j["bodies"] = sc.bodies.size();
   j["steps"] = world.state().step;
-  j["counters"] = {{"tangential_solves", world.stats().tangential_solves},
-                   {"solver_iterations", world.stats().total_iterations},
-                   {"unconverged_steps", world.stats().unconverged_steps},
-                   {"jammed_steps", world.stats().jammed_steps}};
+  j["counters"] = {{"tangential_solves", world.totals().tangential_solves},
+                   {"solver_iterations", world.totals().total_iterations},
+                   {"unconverged_steps", world.totals().unconverged_steps},
+                   {"jammed_steps", world.totals().jammed_steps}};
   return j;
 }
 

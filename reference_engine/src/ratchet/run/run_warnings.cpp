@@ -99,17 +99,17 @@ nlohmann::json RunWarnings::sentences(const World& world) const {
     std::snprintf(text, sizeof text,
                   "%lld of %lld steps stopped at solver.max_iterations = %d sweeps unconverged, the first at step %lld "
                   "(t = %.6g, residual %.3g against the tolerance %.3g)",
-                  static_cast<long long>(world.stats().unconverged_steps), steps, scene.solver.max_iterations,
+                  static_cast<long long>(world.totals().unconverged_steps), steps, scene.solver.max_iterations,
                   static_cast<long long>(first_capped_), first_capped_t_, first_capped_residual_, scene.solver.tolerance);
     out.push_back(text);
   }
-  if (world.stats().jammed_steps > 0) {
+  if (world.totals().jammed_steps > 0) {
     std::snprintf(text, sizeof text,
                   "%lld of these steps were jams (the rigid contact problem had no solution: the normal impulses "
                   "still grew at the cap) and were solved again without the imposed expansion and gap relaxation, "
                   "so the bodies kept the overlap the expansion made (docs/method.md, \"Infeasible jam\"); "
                   "solver.compliance > 0 gives such contacts a finite stiffness instead",
-                  static_cast<long long>(world.stats().jammed_steps));
+                  static_cast<long long>(world.totals().jammed_steps));
     out.push_back(text);
   }
   if (scene.redrawn_particles > 0)

@@ -101,4 +101,8 @@ void StageFields::restore(const nlohmann::json& j) {
   rows_ = j.at("rows").get<std::string>();
 }
 
+void StageFields::finish(const RunEnd& end, nlohmann::json&) const {
+  if (end.clock.thermal() && !end.out_dir.empty()) write(end.out_dir);
+}
+
 }  // namespace ratchet

@@ -10,24 +10,24 @@
 
 #include <nlohmann/json.hpp>
 
-#include "ratchet/run/cycle_clock.hpp"
+#include "ratchet/run/accumulator.hpp"
 #include "ratchet/world/world.hpp"
 
 namespace ratchet {
 
 inline constexpr const char* kStageFieldsFileName = "stage_fields.csv";
 
-class StageFields {
+class StageFields final : public Accumulator {
  public:
   // The start of cycle 0 is the first state when that already is the start of cycling.
   StageFields(const World& world, const CycleClock& clock);
   bool enabled() const { return scene_.outputs.displacement_stages && scene_.outputs.displacement_cell > 0.0; }
-  void after_step(const World& world, const ClockTick& tick);
+  void after_step(const World& world, const ClockTick& tick) override;
   // DIR/stage_fields.csv: the rows of every cycle whose cooling ended.
   void write(const std::string& out_dir) const;
-  // A checkpoint's record of this accumulator (run/checkpoint.hpp), and its restore.
-  nlohmann::json save() const;
-  void restore(const nlohmann::json& j);
+  void finish(const RunEnd& end, nlohmann::json& summary) const override;  // write, thermal runs with files
+  nlohmann::json save() const override;
+  void restore(const nlohmann::json& j) override;
 
  private:
   void start_cycle(const std::vector<Vec3>& x, int cycle);

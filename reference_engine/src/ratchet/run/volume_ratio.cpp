@@ -2,6 +2,7 @@
 
 #include "ratchet/io/json_numbers.hpp"
 #include "ratchet/observe/bed_volume.hpp"
+#include "ratchet/run/run_output.hpp"
 
 namespace ratchet {
 
@@ -40,5 +41,24 @@ void VolumeRatio::restore(const nlohmann::json& j) {
 void VolumeRatio::summarize(const World& world, nlohmann::json& summary) const {
   if (enabled_) summary["V_over_V0_end"] = ratio(world);
 }
+
+void VolumeRatio::timeseries_columns(std::vector<std::string>& names) const {
+  if (enabled_) names.push_back("V_over_V0");
+}
+
+void VolumeRatio::timeseries_values(const World& world, std::vector<double>& values) const {
+  if (enabled_) values.push_back(ratio(world));
+}
+
+void VolumeRatio::cycle_columns(std::vector<std::string>& names) const {
+  names.insert(names.end(), {"V_over_V0_end_heating", "V_over_V0_end_cooling"});
+}
+
+void VolumeRatio::cycle_cells(int cycle, std::vector<std::string>& cells) const {
+  cells.push_back(format_double(at_end_of_heating(cycle)));
+  cells.push_back(format_double(at_end_of_cooling(cycle)));
+}
+
+void VolumeRatio::finish(const RunEnd& end, nlohmann::json& summary) const { summarize(end.world, summary); }
 
 }  // namespace ratchet

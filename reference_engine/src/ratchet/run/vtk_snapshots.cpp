@@ -24,12 +24,10 @@ VtkSnapshot take_vtk_snapshot(const World& world) {
     vb.id = id;
     vb.velocity = st.v[i];
     vb.angular_velocity = st.w[i];
-    vb.scale = body_scale(s, st, id);
-    // The VTK file draws a sphere as a glyph at its centre, a polyhedron as its faces.
+    vb.scale = body_scale(s.bodies[i], st.s_p);
+    // Drawn as its kind says (scene/shape_kinds.hpp): faces, or a glyph at the centre.
     vb.sphere_radius = placed.sphere_radius;
-    const BodyDef& def = s.bodies[i];
-    vb.volume = def.shape >= 0 ? s.shapes[static_cast<std::size_t>(def.shape)].volume * vb.scale * vb.scale * vb.scale
-                               : 4.0 / 3.0 * M_PI * vb.sphere_radius * vb.sphere_radius * vb.sphere_radius;
+    vb.volume = placed.volume;
     if (placed.faces != nullptr) {
       vb.vertices = placed.points;
       vb.faces = *placed.faces;

@@ -17,7 +17,7 @@
 #include "ratchet/observe/container_mesh.hpp"
 #include "ratchet/observe/pvd_writer.hpp"
 #include "ratchet/observe/vtk_writer.hpp"
-#include "ratchet/run/cycle_clock.hpp"
+#include "ratchet/run/accumulator.hpp"
 #include "ratchet/world/world.hpp"
 
 namespace ratchet {
@@ -39,7 +39,7 @@ VtkSnapshot take_vtk_snapshot(const World& world);
 // 8 digits (step00001200).
 std::string vtk_step_tag(std::int64_t step);
 
-class VtkSnapshots {
+class VtkSnapshots final : public Accumulator {
  public:
   // At the run's first state; out_dir empty: no files. A resumed run (run/checkpoint.hpp)
   // passes first_state = false: its first state was written before the interruption.
@@ -47,7 +47,7 @@ class VtkSnapshots {
 
   // After every step. (An earlier run's VTK files were removed by the runner before this
   // object wrote the first state: remove_previous_outputs, run/run_output.hpp.)
-  void after_step(const World& world, const ClockTick& tick);
+  void after_step(const World& world, const ClockTick& tick) override;
 
   // Writes the current state under `tag` and indexes it.
   void write(const World& world, const std::string& tag);
@@ -55,8 +55,8 @@ class VtkSnapshots {
   // A checkpoint's record (the indexes so far), and its restore, which rewrites the
   // .pvd indexes as they were at the checkpoint: snapshots an interrupted run wrote
   // after it are dropped from them until the resumed run writes them again.
-  nlohmann::json save() const;
-  void restore(const nlohmann::json& j);
+  nlohmann::json save() const override;
+  void restore(const nlohmann::json& j) override;
 
  private:
   void write(const VtkSnapshot& snap, const std::string& tag);

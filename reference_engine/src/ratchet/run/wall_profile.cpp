@@ -103,4 +103,8 @@ void WallProfile::write(const std::string& out_dir) const {
   write_file_atomic(out_dir + "/wall_profile.csv", csv.str());
 }
 
+void WallProfile::finish(const RunEnd& end, nlohmann::json&) const {
+  if (end.clock.thermal() && !end.out_dir.empty() && scene_.outputs.wall_profile_bins > 0) write(end.out_dir);
+}
+
 }  // namespace ratchet

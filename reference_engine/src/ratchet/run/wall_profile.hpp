@@ -10,20 +10,20 @@
 
 #include <nlohmann/json.hpp>
 
-#include "ratchet/run/cycle_clock.hpp"
+#include "ratchet/run/accumulator.hpp"
 #include "ratchet/world/world.hpp"
 
 namespace ratchet {
 
-class WallProfile {
+class WallProfile final : public Accumulator {
  public:
   explicit WallProfile(const SceneDef& scene) : scene_(scene) {}
-  void after_step(const World& world, const ClockTick& tick);
+  void after_step(const World& world, const ClockTick& tick) override;
   // Writes DIR/wall_profile.csv (header and the rows so far).
   void write(const std::string& out_dir) const;
-  // A checkpoint's record of this accumulator (run/checkpoint.hpp), and its restore.
-  nlohmann::json save() const;
-  void restore(const nlohmann::json& j);
+  void finish(const RunEnd& end, nlohmann::json& summary) const override;  // write, when asked for
+  nlohmann::json save() const override;
+  void restore(const nlohmann::json& j) override;
 
  private:
   void begin(const World& world);

@@ -94,7 +94,9 @@ struct ContainerDef {
   std::vector<WallDef> walls;
 };
 
-enum class ShapeKind { Sphere, Polyhedron };
+// A body's kind of shape. Count is the number of kinds: it sizes the collision table
+// (contact/collide.cpp) and the table of the kinds' facts (scene/shape_kinds.cpp).
+enum class ShapeKind { Sphere, Polyhedron, Count };
 
 struct BodyDef {
   ShapeKind kind = ShapeKind::Sphere;
@@ -109,6 +111,9 @@ struct BodyDef {
   Vec3 principal_inertia = Vec3::Zero();  // at scale 1
   double bounding_radius = 0.0;   // at scale 1
 };
+
+// The thermal scale of a body when the particles' is s_p: fixed bodies do not expand.
+inline double body_scale(const BodyDef& b, double s_p) { return b.fixed ? 1.0 : s_p; }
 
 // What a run records beyond the always-present timeseries (docs/method.md s. 10). Each
 // observable is computed only when asked for.

@@ -178,9 +178,7 @@ LocalSolution detail::solve_local_slide(const Mat3& W, const Vec3& w, double mu,
   } else {
     // No admissible sliding direction found (not seen in the property test of
     // tests/solver/local_coulomb_test.cpp): project the stick impulse onto the cone.
-    const double ln = std::max(0.0, stick[0]);
-    const double scale = lt > 0.0 ? mu * ln / lt : 0.0;
-    sol.lambda = Vec3(ln, stick[1] * scale, stick[2] * scale);
+    sol.lambda = project_onto_cone(stick, mu);
   }
   return sol;
 }

@@ -145,6 +145,8 @@ void World::warm_start(SolverBodies& bodies) {
     const double ln = std::max(0.0, c.geometry.normal.dot(P));
     Vec3 lambda(ln, 0.0, 0.0);
     if (friction_on_) {
+      // Not project_onto_cone (solver/local_coulomb.hpp): its sqrt(l1^2 + l2^2) and this
+      // hypot round differently, and the warm start has always clipped with hypot.
       double l1 = c.t1.dot(P), l2 = c.t2.dot(P);
       const double lt = std::hypot(l1, l2), cap = c.mu * ln;
       if (lt > cap) { l1 *= cap / lt; l2 *= cap / lt; }

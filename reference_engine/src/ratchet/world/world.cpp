@@ -111,10 +111,7 @@ WorldProgress World::progress() const {
   p.start_time = scene_.thermal.start_time;
   p.duration = scene_.duration;
   p.steps = scene_.steps;
-  p.tangential_solves = stats_.tangential_solves;
-  p.total_iterations = stats_.total_iterations;
-  p.unconverged_steps = stats_.unconverged_steps;
-  p.jammed_steps = stats_.jammed_steps;
+  p.totals = totals_;
   p.timers = timers_;
   return p;
 }
@@ -126,10 +123,7 @@ void World::restore_progress(const WorldProgress& p) {
   scene_.thermal.start_time = p.start_time;
   scene_.duration = p.duration;
   scene_.steps = p.steps;
-  stats_.tangential_solves = p.tangential_solves;
-  stats_.total_iterations = p.total_iterations;
-  stats_.unconverged_steps = p.unconverged_steps;
-  stats_.jammed_steps = p.jammed_steps;
+  totals_ = p.totals;
   timers_ = p.timers;
 }
 
@@ -140,7 +134,9 @@ Vec3 World::wall_point(int wall) const {
   return c0 + state_.s_c * (w.point - c0);
 }
 
-double World::body_scale(int i) const { return scene_.bodies[static_cast<std::size_t>(i)].fixed ? 1.0 : state_.s_p; }
+double World::body_scale(int i) const {
+  return ratchet::body_scale(scene_.bodies[static_cast<std::size_t>(i)], state_.s_p);
+}
 
 // 4. Solve: the rows of this step's contacts, their warm start, the global solve
 // (solver/nsgs.hpp).
@@ -170,15 +166,15 @@ void World::solve() {
     r = solve_contacts(bodies, settings);
     sweeps += r.sweeps;
     tangential += r.tangential_solves;
-    ++stats_.jammed_steps;
+    ++totals_.jammed_steps;
   }
   stats_.iterations = sweeps;
   stats_.converged = r.converged && !jammed;
   stats_.normal_growth = jammed || r.normal_growth;
   stats_.residual = jammed ? first_residual : r.residual;  // the problem posed, not the one yielded
-  if (!stats_.converged) ++stats_.unconverged_steps;
-  stats_.tangential_solves += tangential;
-  stats_.total_iterations += sweeps;
+  if (!stats_.converged) ++totals_.unconverged_steps;
+  totals_.tangential_solves += tangential;
+  totals_.total_iterations += sweeps;
   for (std::size_t k = 0; k < scratch_.contacts.size(); ++k) scratch_.contacts[k].lambda = scratch_.rows[k].lambda;
 }
 

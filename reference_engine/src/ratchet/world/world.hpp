@@ -25,6 +25,7 @@ struct PlanItem {
   std::string reason;
 };
 
+// What the last step did; each step sets every field.
 struct StepStats {
   int contacts = 0;
   int iterations = 0;
@@ -35,22 +36,26 @@ struct StepStats {
   double max_overlap = 0.0;        // the largest overlap (-gap) among the step's contacts as detected, 0 if none
   int manifolds_replayed = 0;      // polyhedron pairs whose kept manifold was replayed (solver.manifold_reuse)
   int manifolds_built = 0;         // ... and those built anew
-  std::int64_t tangential_solves = 0;  // accumulated over the run
-  std::int64_t total_iterations = 0;   // accumulated over the run
+  bool converged = true;           // the step met the tolerance
+  bool normal_growth = false;      // ... and if not, its normal impulses still grew
+};
+
+// What the steps of a run add up to (run.json "counters"; kept by checkpoints).
+struct RunTotals {
+  std::int64_t tangential_solves = 0;  // local solves with friction
+  std::int64_t total_iterations = 0;   // Gauss-Seidel sweeps
   std::int64_t unconverged_steps = 0;  // steps that hit solver.max_iterations
   std::int64_t jammed_steps = 0;       // rigid steps solved again without the imposed motion (World::yield_to_jam)
-  bool converged = true;               // the last step met the tolerance
-  bool normal_growth = false;          // ... and if not, its normal impulses still grew
 };
 
 // What a run has done to a world besides its State: the settle stage's end (which moves
-// the protocol's start and the run's end), the run's solver counters and phase timers.
+// the protocol's start and the run's end), the run's totals and phase timers.
 // State plus this is what a checkpoint keeps of a world (run/checkpoint.hpp).
 struct WorldProgress {
   bool settling = false;
   double start_time = 0.0, duration = 0.0;  // scene().thermal.start_time, scene().duration
   std::int64_t steps = 0;                   // scene().steps
-  std::int64_t tangential_solves = 0, total_iterations = 0, unconverged_steps = 0, jammed_steps = 0;
+  RunTotals totals;
   PhaseTimers timers;
 };
 
@@ -75,7 +80,8 @@ class World {
   const SceneDef& scene() const { return scene_; }
   const State& state() const { return state_; }
   State& mutable_state() { return state_; }
-  const StepStats& stats() const { return stats_; }
+  const StepStats& stats() const { return stats_; }    // the last step
+  const RunTotals& totals() const { return totals_; }  // the run so far
   const PhaseTimers& timers() const { return timers_; }
   const std::vector<SolverContact>& contacts() const { return scratch_.contacts; }
   const RowColouring& contact_colouring() const { return scratch_.colouring; }
@@ -83,7 +89,7 @@ class World {
 
   // Observables of the current state are functions of (scene, state) in observe/.
   Vec3 wall_point(int wall) const;      // current point of a wall (container scale)
-  double body_scale(int i) const;       // thermal scale of body i: s_p, or 1 for a fixed body
+  double body_scale(int i) const;       // thermal scale of body i (scene.hpp, body_scale)
 
  private:
   void free_velocity();
@@ -118,6 +124,7 @@ class World {
   State state_;
   StepScratch scratch_;
   StepStats stats_;
+  RunTotals totals_;
   PhaseTimers timers_;
   bool gravity_on_ = false, thermal_on_ = false, friction_on_ = false, rotation_on_ = false;
   bool settling_ = false;  // a settle section whose stage has not ended yet
