@@ -197,6 +197,21 @@ TEST(Scene, VtkOutputsAreChecked) {
   std::filesystem::remove_all(dir);
 }
 
+TEST(Scene, VtkFormatIsBinaryUnlessAsciiIsAsked) {
+  json j = minimal_scene();
+  EXPECT_FALSE(build_scene(j, "scene.json").outputs.vtk_ascii);
+  j["outputs"] = {{"vtk_format", "ascii"}};
+  EXPECT_TRUE(build_scene(j, "scene.json").outputs.vtk_ascii);
+  j["outputs"] = {{"vtk_format", "binary"}};
+  EXPECT_FALSE(build_scene(j, "scene.json").outputs.vtk_ascii);
+  for (const char* bad : {"\"xml\"", "\"ASCII\"", "1", "true"}) {
+    j["outputs"] = {{"vtk_format", json::parse(bad)}};
+    EXPECT_THAT(error_of(j), HasSubstr("scene.json: field 'outputs.vtk_format': expected")) << bad;
+  }
+  j["outputs"] = {{"vtk_format", "xml"}};
+  EXPECT_THAT(error_of(j), HasSubstr("expected \"binary\" or \"ascii\", got \"xml\""));
+}
+
 // outputs.displacement.stages: off unless asked (scenes that do not ask pay nothing).
 TEST(Scene, DisplacementStagesIsABooleanOffByDefault) {
   json j = minimal_scene();

@@ -124,6 +124,7 @@ struct OutputSettings {
   double pressure_window = 0.5;  // time units: block average of P(t) for the per-cycle peaks
   std::vector<int> vtk_cycles;  // VTK at the ends of heating and cooling of these cycles (thermal cycles only)
   int vtk_every = 0;            // > 0: VTK of the first state, every step k with k % vtk_every == 0, and the last
+  bool vtk_ascii = false;       // outputs.vtk_format "ascii": data arrays as text; "binary" (default): zlib-compressed
   int checkpoint_every = kDefaultCheckpointEvery;  // > 0: DIR/checkpoint.state every this many steps (run/checkpoint.hpp); 0: none
 };
 

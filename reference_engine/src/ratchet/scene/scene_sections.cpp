@@ -154,8 +154,8 @@ std::vector<std::pair<int, int>> read_windows(const Reader& r, const json& j, co
 void read_outputs(const Reader& r, const json& j, SceneDef& s) {
   const std::string p = "outputs";
   r.object(j, p, {"timeseries_every", "bodies_every", "volume", "segment_forces", "cycles", "steady_cycles",
-                  "displacement", "wall_profile_bins", "settled_profile_time", "vtk_cycles", "vtk_every", "checkpoint_every",
-                  "pressure_window"});
+                  "displacement", "wall_profile_bins", "settled_profile_time", "vtk_cycles", "vtk_every", "vtk_format",
+                  "checkpoint_every", "pressure_window"});
   OutputSettings& o = s.outputs;
   o.timeseries_every = static_cast<int>(r.integer(j, p, "timeseries_every", 1, 1, 1 << 30));
   o.bodies_every = static_cast<int>(r.integer(j, p, "bodies_every", 0, 0, 1 << 30));
@@ -200,6 +200,9 @@ void read_outputs(const Reader& r, const json& j, SceneDef& s) {
              &v);
   }
   o.vtk_every = static_cast<int>(r.integer(j, p, "vtk_every", 0, 0, 1 << 30));
+  const std::string format = r.string(j, p, "vtk_format", "binary");
+  if (format != "binary" && format != "ascii") r.fail(p + ".vtk_format", "\"binary\" or \"ascii\"", &j.at("vtk_format"));
+  o.vtk_ascii = format == "ascii";
   o.checkpoint_every = static_cast<int>(r.integer(j, p, "checkpoint_every", kDefaultCheckpointEvery, 0, 1 << 30));
 }
 
