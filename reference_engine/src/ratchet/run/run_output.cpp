@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "ratchet/core/build_info.hpp"
 #include "ratchet/observe/bed_geometry.hpp"
 #include "ratchet/observe/energy.hpp"
 #include "ratchet/observe/wall_pressure.hpp"
@@ -136,10 +137,18 @@ void RunOutput::write_run_json(const World& world, const nlohmann::json& summary
   write_file_atomic(dir_ + "/run.json", meta.dump(2) + "\n");
 }
 
+nlohmann::json engine_record() {
+  return {{"name", "ratchet"},
+          {"version", RATCHET_VERSION},
+          {"build_type", RATCHET_BUILD_TYPE},
+          {"commit", engine_commit()},
+          {"source_hash", engine_source_hash()}};
+}
+
 nlohmann::json run_metadata(const World& world) {
   const SceneDef& sc = world.scene();
   nlohmann::json j;
-  j["engine"] = {{"name", "ratchet"}, {"version", RATCHET_VERSION}, {"build_type", RATCHET_BUILD_TYPE}};
+  j["engine"] = engine_record();
   j["scene_file"] = sc.source;
   j["scene_hash"] = sc.hash;
   j["scene"] = sc.as_run;

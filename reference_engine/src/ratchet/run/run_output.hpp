@@ -48,7 +48,11 @@ class RunOutput {
 // indexes. Other files are left alone. Returns the paths removed.
 std::vector<std::string> remove_previous_outputs(const std::string& dir);
 
-// Run metadata: scene as run, hash, engine version, effects, plan, timings.
+// The engine that wrote a file: {name, version, build_type, commit, source_hash}
+// (core/build_info.hpp).
+nlohmann::json engine_record();
+
+// Run metadata: scene as run, hash, engine, effects, plan, timings.
 nlohmann::json run_metadata(const World& world);
 
 // 17 significant digits (%.17g): always reads back to the same double.
