@@ -286,6 +286,7 @@ void run_sweep(const SweepPlan& plan, const std::vector<int>& ids, int jobs,
         World world(build_scene(run.scene, plan.source + " run " + std::to_string(run.id)));
         RunOptions opt;
         opt.out_dir = run_dir(plan, run.id);
+        opt.command_line = plan.command_line;
         if (const std::optional<ResumePoint> point = checkpoint_of(opt.out_dir, world.scene())) {
           // An interrupted run goes on from its last checkpoint (run/checkpoint.hpp).
           resume_world(world, *point);
