@@ -152,6 +152,7 @@ nlohmann::json run_metadata(const World& world) {
   j["scene_file"] = sc.source;
   j["scene_hash"] = sc.hash;
   j["scene"] = sc.as_run;
+  j["effective_scene"] = sc.effective;
   j["effects"] = {{"gravity", sc.effects.gravity},
                   {"friction", sc.effects.friction},
                   {"rotation", sc.effects.rotation},

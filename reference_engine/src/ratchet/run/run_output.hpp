@@ -52,7 +52,8 @@ std::vector<std::string> remove_previous_outputs(const std::string& dir);
 // (core/build_info.hpp).
 nlohmann::json engine_record();
 
-// Run metadata: scene as run, hash, engine, effects, plan, timings.
+// Run metadata: engine, scene as run and with its defaults filled in, hash, effects,
+// plan, timings.
 nlohmann::json run_metadata(const World& world);
 
 // 17 significant digits (%.17g): always reads back to the same double.

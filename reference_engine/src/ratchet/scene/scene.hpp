@@ -162,6 +162,11 @@ struct SceneDef {
   std::vector<BodyDef> bodies;
   nlohmann::json as_run;     // the scene JSON as run: the file after --set overrides
   std::string hash;          // FNV-1a 64 of as_run.dump(), hex
+  // as_run with every default filled in: each field the reader took a default for, with
+  // that default (and time.duration when derived from the thermal protocol). Sections
+  // whose absence means "none" (container, thermal, settle, outputs.displacement,
+  // particles.generate.region) stay absent. Read back, it gives the same scene.
+  nlohmann::json effective;
 };
 
 // Thrown for any malformed scene: the message names the file, the field and what was

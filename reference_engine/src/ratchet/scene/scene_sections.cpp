@@ -30,6 +30,7 @@ void read_solver(const Reader& r, const json& j, SolverSettings& s) {
     else if (c == "velocity") s.criterion = Criterion::Velocity;
     else r.fail(p + ".criterion", "\"impulse\" or \"velocity\"", &c);
   }
+  r.fill(p, "criterion", s.criterion == Criterion::Velocity ? "velocity" : "impulse");
   s.max_iterations = static_cast<int>(r.integer(j, p, "max_iterations", s.max_iterations, 1, 100000000));
   if (j.contains("acceleration")) {
     const json& a = j.at("acceleration");
@@ -37,6 +38,7 @@ void read_solver(const Reader& r, const json& j, SolverSettings& s) {
     else if (a == "anderson") s.acceleration = Acceleration::Anderson;
     else r.fail(p + ".acceleration", "\"none\" or \"anderson\"", &a);
   }
+  r.fill(p, "acceleration", s.acceleration == Acceleration::Anderson ? "anderson" : "none");
   s.anderson_depth = static_cast<int>(r.integer(j, p, "anderson_depth", s.anderson_depth, 1, kMaxAndersonDepth));
   s.theta = r.number(j, p, "theta", s.theta, 0.5, 1.0, false, false, "a number in [0.5, 1]");
   s.p_gap = r.number(j, p, "p_gap", s.p_gap, 0.0, 1.0, true, false, "a number in (0, 1]");
@@ -175,6 +177,9 @@ void read_outputs(const Reader& r, const json& j, SceneDef& s) {
       r.fail(p + ".steady_cycles", "[first, last] cycle indices with 0 <= first <= last", &w);
     o.steady_first = w[0].get<int>();
     o.steady_last = w[1].get<int>();
+  } else if (s.thermal.enabled && s.thermal.cycles > 0) {
+    // The default the pressure peaks use (run/pressure_peaks.cpp): the second half.
+    r.fill(p, "steady_cycles", json::array({s.thermal.cycles / 2, s.thermal.cycles - 1}));
   }
   if (j.contains("displacement")) {
     const std::string f = p + ".displacement";
@@ -199,6 +204,7 @@ void read_outputs(const Reader& r, const json& j, SceneDef& s) {
              "outputs.vtk_every writes VTK every N steps in any scene)",
              &v);
   }
+  r.fill(p, "vtk_cycles", json::array());
   o.vtk_every = static_cast<int>(r.integer(j, p, "vtk_every", 0, 0, 1 << 30));
   const std::string format = r.string(j, p, "vtk_format", "binary");
   if (format != "binary" && format != "ascii") r.fail(p + ".vtk_format", "\"binary\" or \"ascii\"", &j.at("vtk_format"));
