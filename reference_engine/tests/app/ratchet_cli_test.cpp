@@ -365,6 +365,26 @@ TEST(RatchetCli, JobsMustBeAWholeNumberOfAtLeastOne) {
   fs::remove_all(d);
 }
 
+// A sweep's bad list of points stops it with status 2 before any work, naming the
+// sweep file and the field (docs/sweeps.md, "Errors come before any work").
+TEST(RatchetCli, BadSweepPointsAreRefusedNamingFileAndField) {
+  const fs::path d = scratch();
+  const std::string out = (d / "o").string(), sweep = (d / "pts.json").string();
+  write(sweep, std::string(R"({"scene": )") + kThermalScene +
+                   R"(, "points": [{"thermal.alpha_c": 1e-3}, {"thermal.alpha_p": 1e-4}]})");
+  Result r = run("sweep " + sweep + " --out " + out);
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("ratchet: error: " + sweep +
+                                  ": field 'points[1]': expected the fields of points[0] (thermal.alpha_c), got "
+                                  "thermal.alpha_p"));
+  write(sweep, std::string(R"({"scene": )") + kThermalScene + R"(, "points": {"thermal.alpha_c": 1e-3}})");
+  r = run("sweep " + sweep + " --out " + out);
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_THAT(r.output, HasSubstr(sweep + ": field 'points': expected a non-empty list of points"));
+  EXPECT_FALSE(fs::exists(out));
+  fs::remove_all(d);
+}
+
 // A typo in a --set names the --set, not the scene file; a typo in the file names the file.
 TEST(RatchetCli, SetErrorsNameTheOptionAndSuggestTheField) {
   const fs::path d = scratch();

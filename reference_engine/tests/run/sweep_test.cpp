@@ -1,6 +1,7 @@
-// Sweep plans: the grid's cartesian product (last key fastest, seeds innermost), seeds
-// versus realizations, the scene of each run, packings shared by the runs that differ
-// only in what the packing key leaves out, rejected sweep files, and the completion test.
+// Sweep plans: the grid's cartesian product (last key fastest, seeds innermost), a list
+// of points, seeds versus realizations, the scene of each run, packings shared by the
+// runs that differ only in what the packing key leaves out, rejected sweep files, and
+// the completion test.
 #include "ratchet/run/sweep.hpp"
 
 #include <gmock/gmock.h>
@@ -64,6 +65,37 @@ TEST(LoadSweep, GridTimesRealizationsInOdometerOrder) {
   EXPECT_EQ(packing_path(plan, "abc"), (dir.path / "out").string() + "/packings/abc.state");
 }
 
+// A list of points: the runs in the list's order, seeds innermost, one column per key.
+TEST(LoadSweep, ListedPointsInTheirOrderTimesSeeds) {
+  Dir dir("points");
+  const json sweep = {{"scene", kScene},
+                      {"points", {{{"thermal.alpha_p", 2e-4}, {"solver.tolerance", 1e-3}},
+                                  {{"thermal.alpha_p", 1e-4}, {"solver.tolerance", 1e-5}}}},
+                      {"seeds", {4, 2}}};
+  const SweepPlan plan = load_sweep(dir.write(sweep), (dir.path / "out").string());
+  EXPECT_EQ(plan.grid_keys, (std::vector<std::string>{"solver.tolerance", "thermal.alpha_p"}));
+  ASSERT_EQ(plan.runs.size(), 4u);
+  const std::vector<double> alpha = {2e-4, 2e-4, 1e-4, 1e-4}, tol = {1e-3, 1e-3, 1e-5, 1e-5};
+  for (std::size_t i = 0; i < 4; ++i) {
+    const SweepRun& r = plan.runs[i];
+    EXPECT_EQ(r.seed, i % 2 == 0 ? 4u : 2u);
+    EXPECT_EQ(r.scene.at("thermal").at("alpha_p"), alpha[i]);
+    EXPECT_EQ(r.scene.at("solver").at("tolerance"), tol[i]);
+    ASSERT_EQ(r.params.size(), 2u);
+    EXPECT_EQ(r.params[1], (std::pair<std::string, json>{"thermal.alpha_p", alpha[i]}));
+  }
+  // A point the scene refuses names its run, before anything is written.
+  const json bad = {{"scene", kScene}, {"points", {{{"time.dt", 0.01}}, {{"time.dt", -1.0}}}}};
+  try {
+    load_sweep(dir.write(bad), (dir.path / "out").string());
+    FAIL() << "a negative time step was taken";
+  } catch (const SceneError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("field 'time.dt'"));
+    EXPECT_THAT(e.what(), HasSubstr("(in run 1 of sweep"));
+  }
+  EXPECT_FALSE(fs::exists(dir.path / "out"));
+}
+
 // alpha_p cannot act before the settle stage ends: one packing per (tolerance, seed).
 TEST(LoadSweep, RunsShareThePackingTheirKeyAllows) {
   Dir dir("packings");
@@ -120,6 +152,8 @@ TEST(LoadSweep, RejectsBadSweepsBeforeWritingAnything) {
     return std::string("no error");
   };
   EXPECT_THAT(message({{"scene", kScene}, {"grids", json::object()}}), HasSubstr("'grids': unknown field"));
+  EXPECT_THAT(message({{"scene", kScene}, {"grid", {{"time.dt", {0.01}}}}, {"points", {{{"time.dt", 0.01}}}}}),
+              HasSubstr("sweep.json: field 'points': expected either a grid or a list of points, not both"));
   EXPECT_THAT(message({{"grid", json::object()}}), HasSubstr("'scene'"));
   EXPECT_THAT(message({{"scene", kScene}, {"grid", {{"time.dt", json::array()}}}}), HasSubstr("grid.time.dt"));
   EXPECT_THAT(message({{"scene", kScene}, {"realizations", 0}}), HasSubstr("realizations"));

@@ -21,6 +21,7 @@
 #include "ratchet/run/run_output.hpp"
 #include "ratchet/run/runner.hpp"
 #include "ratchet/run/stop_request.hpp"
+#include "ratchet/run/sweep_points.hpp"
 #include "ratchet/scene/scene.hpp"
 
 namespace ratchet {
@@ -47,10 +48,11 @@ SweepPlan load_sweep(const std::string& path, const std::string& out_dir,
   const json j = json::parse(in, nullptr, false, true);
   if (j.is_discarded() || !j.is_object()) throw SceneError(path + ": not a valid JSON object");
   for (auto it = j.begin(); it != j.end(); ++it)
-    if (it.key() != "scene" && it.key() != "grid" && it.key() != "realizations" && it.key() != "seeds" &&
-        it.key() != "set" && it.key() != "description")
+    if (it.key() != "scene" && it.key() != "grid" && it.key() != "points" && it.key() != "realizations" &&
+        it.key() != "seeds" && it.key() != "set" && it.key() != "description")
       throw SceneError(path + ": field '" + it.key() +
-                       "': unknown field (known fields here: scene, grid, realizations, seeds, set, description)");
+                       "': unknown field (known fields here: scene, grid, points, realizations, seeds, set, "
+                       "description)");
   SweepPlan plan;
   plan.source = path;
   plan.out_dir = out_dir;
@@ -88,27 +90,18 @@ SweepPlan load_sweep(const std::string& path, const std::string& out_dir,
     if (!r.is_number_integer() || r.get<int>() < 1) fail(path, "realizations", "an integer >= 1");
     for (int s = 1; s <= r.get<int>(); ++s) seeds.push_back(static_cast<std::uint64_t>(s));
   }
-  // Grid: the cartesian product, keys in file order of the (sorted) JSON object.
-  std::vector<std::vector<json>> values;
-  if (j.contains("grid")) {
-    if (!j.at("grid").is_object()) fail(path, "grid", "an object {\"dotted.path\": [values ...]}");
-    for (auto it = j.at("grid").begin(); it != j.at("grid").end(); ++it) {
-      if (!it.value().is_array() || it.value().empty()) fail(path, "grid." + it.key(), "a non-empty list of values");
-      plan.grid_keys.push_back(it.key());
-      values.emplace_back(it.value().begin(), it.value().end());
-    }
-  }
-  std::vector<std::size_t> index(values.size(), 0);
+  // The points: the grid's cartesian product or the list, each one value per key.
+  const std::vector<std::vector<json>> points = sweep_points(j, path, plan.grid_keys);
   int id = 0;
-  for (bool more = true; more;) {
+  for (const std::vector<json>& point : points) {
     for (std::uint64_t seed : seeds) {
       SweepRun run;
       run.id = id++;
       run.seed = seed;
       run.scene = base;
-      for (std::size_t k = 0; k < values.size(); ++k) {
-        run.params.emplace_back(plan.grid_keys[k], values[k][index[k]]);
-        set_path(run.scene, plan.grid_keys[k], values[k][index[k]], path);
+      for (std::size_t k = 0; k < point.size(); ++k) {
+        run.params.emplace_back(plan.grid_keys[k], point[k]);
+        set_path(run.scene, plan.grid_keys[k], point[k], path);
       }
       run.scene["seed"] = seed;
       // Check the run's scene now: a bad grid value stops the sweep before any work.
@@ -122,12 +115,6 @@ SweepPlan load_sweep(const std::string& path, const std::string& out_dir,
         throw SceneError(std::string(e.what()) + " (in run " + std::to_string(run.id) + " of sweep " + path + ")");
       }
       plan.runs.push_back(std::move(run));
-    }
-    // Next grid point (odometer, last key fastest).
-    more = false;
-    for (std::size_t k = values.size(); k-- > 0;) {
-      if (++index[k] < values[k].size()) { more = true; break; }
-      index[k] = 0;
     }
   }
   // Packings in the order of their first run (a linear search: no unordered containers).
