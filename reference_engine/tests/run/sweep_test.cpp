@@ -1,7 +1,7 @@
 // Sweep plans: the grid's cartesian product (last key fastest, seeds innermost), a list
 // of points, seeds versus realizations, the scene of each run, packings shared by the
 // runs that differ only in what the packing key leaves out, rejected sweep files, and
-// the completion test.
+// the completion test (same scene, same engine) for runs and packings.
 #include "ratchet/run/sweep.hpp"
 
 #include <gmock/gmock.h>
@@ -10,7 +10,11 @@
 #include <filesystem>
 #include <fstream>
 
+#include "ratchet/io/state_file.hpp"
+#include "ratchet/run/packing.hpp"
+#include "ratchet/run/run_output.hpp"
 #include "ratchet/scene/scene.hpp"
+#include "ratchet/world/world.hpp"
 
 namespace ratchet {
 namespace {
@@ -163,7 +167,7 @@ TEST(LoadSweep, RejectsBadSweepsBeforeWritingAnything) {
   EXPECT_FALSE(fs::exists(out));
 }
 
-TEST(RunCompleted, OnlyACompletedRunJsonOfTheSameScene) {
+TEST(RunCompleted, OnlyACompletedRunJsonOfTheSameSceneAndEngine) {
   Dir dir("completed");
   const SweepPlan plan = load_sweep(dir.write({{"scene", kScene}, {"realizations", 1}}), dir.path.string());
   ASSERT_EQ(plan.runs.size(), 1u);
@@ -171,12 +175,49 @@ TEST(RunCompleted, OnlyACompletedRunJsonOfTheSameScene) {
   EXPECT_FALSE(run_completed(plan, run));
   fs::create_directories(run_dir(plan, 0));
   auto write = [&](const json& j) { std::ofstream(run_dir(plan, 0) + "/run.json") << j.dump(); };
-  write({{"status", "completed"}, {"scene_hash", fnv1a_hex(run.scene.dump())}});
+  const std::string hash = fnv1a_hex(run.scene.dump());
+  write({{"status", "completed"}, {"scene_hash", hash}, {"engine", engine_record()}});
   EXPECT_TRUE(run_completed(plan, run));
-  write({{"status", "completed"}, {"scene_hash", "0000000000000000"}});  // another scene
+  write({{"status", "completed"}, {"scene_hash", "0000000000000000"}, {"engine", engine_record()}});  // another scene
   EXPECT_FALSE(run_completed(plan, run));
-  write({{"status", "running"}, {"scene_hash", fnv1a_hex(run.scene.dump())}});
+  write({{"status", "running"}, {"scene_hash", hash}, {"engine", engine_record()}});
   EXPECT_FALSE(run_completed(plan, run));
+  // Another engine: the same version built from other sources, or a run.json from
+  // before the engine was recorded. Its run is run again.
+  json other = engine_record();
+  other["source_hash"] = "0123456789abcdef";
+  write({{"status", "completed"}, {"scene_hash", hash}, {"engine", other}});
+  EXPECT_FALSE(run_completed(plan, run));
+  write({{"status", "completed"}, {"scene_hash", hash}});
+  EXPECT_FALSE(run_completed(plan, run));
+  other = engine_record();
+  other["version"] = "0.0.1";
+  write({{"status", "completed"}, {"scene_hash", hash}, {"engine", other}});
+  EXPECT_FALSE(run_completed(plan, run));
+  // The commit is provenance, not identity: a commit that left the engine alone keeps the run.
+  other = engine_record();
+  other["commit"] = "0000000000000000000000000000000000000000";
+  write({{"status", "completed"}, {"scene_hash", hash}, {"engine", other}});
+  EXPECT_TRUE(run_completed(plan, run));
+}
+
+// A packing made by another engine is made again, never reused.
+TEST(PackingReady, OnlyAWholePackingOfTheSameKeyAndEngine) {
+  Dir dir("packing_engine");
+  const SweepPlan plan = load_sweep(dir.write({{"scene", kScene}}), dir.path.string());
+  ASSERT_EQ(plan.packings.size(), 1u);
+  const SweepPacking& p = plan.packings[0];
+  EXPECT_FALSE(packing_ready(plan, p));  // missing
+  World world(build_scene(plan.runs[0].scene, "s.json"));
+  fs::create_directories(dir.path / "packings");
+  write_packing(packing_path(plan, p.key), world, json::object());
+  EXPECT_TRUE(packing_ready(plan, p));
+  StateFile f = read_state_file(packing_path(plan, p.key));
+  EXPECT_EQ(f.meta.at("engine"), engine_record());
+  f.meta["engine"]["source_hash"] = "0123456789abcdef";
+  write_state_file(packing_path(plan, p.key), f);
+  EXPECT_FALSE(packing_ready(plan, p));
+  EXPECT_EQ(needed_packings(plan), (std::vector<int>{0}));
 }
 
 }  // namespace

@@ -145,6 +145,18 @@ nlohmann::json engine_record() {
           {"source_hash", engine_source_hash()}};
 }
 
+std::string other_engine(const nlohmann::json& recorded) {
+  const nlohmann::json mine = engine_record();
+  auto field = [&](const char* key) {
+    return recorded.is_object() && recorded.contains(key) && recorded.at(key).is_string() ? recorded.at(key).get<std::string>()
+                                                                                        : std::string("none");
+  };
+  const std::string version = field("version"), source = field("source_hash");
+  if (version == mine.at("version") && source == mine.at("source_hash")) return "";
+  return "made by engine " + version + " source " + source + ", this is " + mine.at("version").get<std::string>() +
+         " source " + mine.at("source_hash").get<std::string>();
+}
+
 nlohmann::json run_metadata(const World& world) {
   const SceneDef& sc = world.scene();
   nlohmann::json j;

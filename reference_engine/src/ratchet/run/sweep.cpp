@@ -153,10 +153,18 @@ std::optional<ResumePoint> checkpoint_of(const std::string& dir, const SceneDef&
 
 }  // namespace
 
-bool run_completed(const SweepPlan& plan, const SweepRun& run) {
-  const json j = read_run_json(plan, run.id);
-  return j.is_object() && j.value("status", "") == "completed" && j.value("scene_hash", "") == fnv1a_hex(run.scene.dump());
+namespace {
+
+// A run's run.json `j` shows it complete: completed, for the scene the sweep builds
+// now, by this engine (an engine change reruns it: docs/sweeps.md, "Resume").
+bool completed(const json& j, const SweepRun& run) {
+  return j.is_object() && j.value("status", "") == "completed" &&
+         j.value("scene_hash", "") == fnv1a_hex(run.scene.dump()) && other_engine(j.value("engine", json())).empty();
 }
+
+}  // namespace
+
+bool run_completed(const SweepPlan& plan, const SweepRun& run) { return completed(read_run_json(plan, run.id), run); }
 
 std::string packing_path(const SweepPlan& plan, const std::string& key) {
   return plan.out_dir + "/packings/" + key + ".state";
@@ -172,6 +180,9 @@ std::string packing_problem(const SweepPlan& plan, const SweepPacking& packing) 
   try {
     const StateFile f = read_state_file(path);
     if (f.key != packing.key) return path + ": holds key " + f.key;
+    // A packing of another engine may hold another bed: made again, never reused.
+    if (const std::string other = other_engine(f.meta.value("engine", json())); !other.empty())
+      return path + ": " + other;
     return "";
   } catch (const StateFileError& e) {
     return e.what();
@@ -344,8 +355,7 @@ void write_sweep_summary(const SweepPlan& plan) {
   for (std::size_t i = 0; i < plan.runs.size(); ++i) {
     const SweepRun& run = plan.runs[i];
     const json& m = metas[i];
-    const bool ok = m.is_object() && m.value("status", "") == "completed" &&
-                    m.value("scene_hash", "") == fnv1a_hex(run.scene.dump());
+    const bool ok = completed(m, run);
     csv << run.id;
     for (const auto& p : run.params) csv << ',' << cell(p.second);
     if (!has_alpha_p) {
