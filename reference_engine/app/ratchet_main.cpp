@@ -179,7 +179,8 @@ bool launched_by_mpirun() {
 }
 
 // The arguments have been checked (ratchet_cli_main); jobs 0: the default.
-int sweep(const std::string& sweep_path, const std::string& out_dir, int jobs, const std::vector<std::string>& overrides) {
+int sweep(const std::string& sweep_path, const std::string& out_dir, int jobs, const std::vector<std::string>& overrides,
+          const std::vector<std::string>& command_line) {
   const bool mpi = launched_by_mpirun();
   int rank = 0, size = 1;
   if (mpi) {
@@ -190,7 +191,8 @@ int sweep(const std::string& sweep_path, const std::string& out_dir, int jobs, c
   int status = 0;
   try {
     // Every rank checks the whole sweep before any run starts.
-    const ratchet::SweepPlan plan = ratchet::load_sweep(sweep_path, out_dir, overrides);
+    ratchet::SweepPlan plan = ratchet::load_sweep(sweep_path, out_dir, overrides);
+    plan.command_line = command_line;
     std::vector<int> mine;
     for (const auto& run : plan.runs)
       if (run.id % size == rank) mine.push_back(run.id);
@@ -247,6 +249,7 @@ struct SceneArgs {
   std::vector<std::string> overrides;
   bool explain = false, quiet = false;
   double progress_every = 60.0;  // off a terminal: seconds between progress lines
+  std::vector<std::string> command_line;  // the program's arguments (run.json provenance)
 };
 
 // A run stopped by a signal: where it stands, and the conventional status 128 + signal.
@@ -277,6 +280,7 @@ int resume_run(const SceneArgs& a) {
     ratchet::RunOptions opt;
     opt.out_dir = dir;
     opt.resume = point.run;
+    opt.command_line = a.command_line;
     opt.progress = !a.quiet;
     opt.log_every = a.progress_every;
     ratchet::install_stop_handlers();
@@ -378,6 +382,7 @@ int run_or_pack(const bool pack, const SceneArgs& a) {
       return explain(world);
     }
     opt.out_dir = out_dir;
+    opt.command_line = a.command_line;
     opt.progress = !quiet;
     opt.log_every = a.progress_every;
     ratchet::install_stop_handlers();
@@ -579,8 +584,10 @@ int ratchet_cli_main(int argc, char** argv) {
     if (!problem.empty())
       return input_error("--out " + sweep_out + ": expected a folder, or a path where one can be created, but " +
                          problem);
-    return sweep(sweep_file, sweep_out, jobs, sweep_overrides);
+    return sweep(sweep_file, sweep_out, jobs, sweep_overrides, std::vector<std::string>(argv, argv + argc));
   }
   if (command == "bodies") return write_bodies(bodies_args);
-  return run_or_pack(command == "pack", command == "pack" ? pack_args : run_args);
+  SceneArgs& args = command == "pack" ? pack_args : run_args;
+  args.command_line.assign(argv, argv + argc);
+  return run_or_pack(command == "pack", args);
 }

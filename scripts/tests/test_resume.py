@@ -65,8 +65,11 @@ def timeseries_without_timings(path: Path) -> pd.DataFrame:
 
 
 def run_json_without_timings(path: Path) -> dict:
+    """run.json without what the clock and the invocation decide: the timings, and the
+    provenance (date, host, command line: a resumed run lists its resumes)."""
     j = json.loads(path.read_text())
     j.pop("wall_seconds", None)
+    assert j.pop("provenance")["host"]
     for phase in j["phases"]:
         phase.pop("seconds", None)
     if isinstance(j.get("packing"), dict):  # the packing's folder is the sweep's own

@@ -1,5 +1,6 @@
 """VTK output of `ratchet run` (docs/output-format.md, "VTK files") read back with VTK's
-own readers (Debian's python3-vtk9) and checked against the run's CSVs: the .pvd indexes
+own readers (Debian's python3-vtk9), in both encodings (zlib-compressed binary, the
+default, and ASCII on request: the same arrays), and checked against the run's CSVs: the .pvd indexes
 list every snapshot with the time of its timeseries.csv row, the particles are the
 bodies.csv rows of that step, the contacts with a positive normal force are the
 `contacts` column of that step, and the container is drawn at the scale s_c of that row.
@@ -109,6 +110,17 @@ def run(tmp_path_factory) -> Path:
 
 
 @pytest.fixture(scope="module")
+def ascii_run(tmp_path_factory) -> Path:
+    """The same run with outputs.vtk_format "ascii"."""
+    folder = tmp_path_factory.mktemp("vtk_ascii")
+    scene = folder / "scene.json"
+    scene.write_text(json.dumps({**SCENE, "outputs": {**SCENE["outputs"], "vtk_format": "ascii"}}))
+    r = ratchet("run", scene, "--out", folder / "run")
+    assert r.returncode == 0, r.stderr
+    return folder / "run"
+
+
+@pytest.fixture(scope="module")
 def csv(run):
     # round_trip: the CSVs' 17 digits read back to the very doubles the run had.
     ts = pd.read_csv(run / "timeseries.csv", float_precision="round_trip").set_index("step")
@@ -149,6 +161,41 @@ def test_pvd_lists_every_snapshot_with_its_time(run, csv):
     assert step_of(read_vtp(run / "vtk" / "contacts_cycle0_end_cooling.vtp")) == END_COOLING_STEP
     assert (run / "vtk" / "container_cycle0_end_cooling.vtp").is_file()
     assert not list((run / "vtk").glob("*.partial"))
+
+
+def all_arrays(poly) -> dict:
+    """Every array of a file (field, point and cell data, points, cell connectivity) as numpy."""
+    out = {}
+    for kind, data in (("field", poly.GetFieldData()), ("point", poly.GetPointData()), ("cell", poly.GetCellData())):
+        for i in range(data.GetNumberOfArrays()):
+            out[f"{kind}/{data.GetArrayName(i)}"] = vtk_to_numpy(data.GetArray(i))
+    if poly.GetNumberOfPoints() > 0:
+        out["points"] = vtk_to_numpy(poly.GetPoints().GetData())
+    for name in ("Verts", "Lines", "Polys"):
+        cells = getattr(poly, f"Get{name}")()
+        out[f"{name}/offsets"] = vtk_to_numpy(cells.GetOffsetsArray())
+        out[f"{name}/connectivity"] = vtk_to_numpy(cells.GetConnectivityArray())
+    return out
+
+
+def test_binary_is_the_default_and_ascii_holds_the_same_arrays(run, ascii_run):
+    files = sorted(p.name for p in (run / "vtk").glob("*.vtp"))
+    assert files == sorted(p.name for p in (ascii_run / "vtk").glob("*.vtp")) and len(files) > 40
+    compared = 0
+    for name in files:
+        binary, text = (run / "vtk" / name).read_bytes(), (ascii_run / "vtk" / name).read_bytes()
+        # The encodings as docs/output-format.md states them.
+        assert b'compressor="vtkZLibDataCompressor"' in binary and b'<AppendedData encoding="raw">' in binary
+        assert b'format="appended"' in binary and b"compressor" not in text and b'format="appended"' not in text
+        a, b = all_arrays(read_vtp(run / "vtk" / name)), all_arrays(read_vtp(ascii_run / "vtk" / name))
+        assert a.keys() == b.keys(), name
+        for key in a:
+            assert a[key].dtype == b[key].dtype, (name, key)
+            # Bit for bit: the ASCII text reads back to the very doubles of the binary file.
+            assert a[key].tobytes() == b[key].tobytes(), (name, key)
+            compared += a[key].size
+        assert len(binary) < len(text) or "contacts" in name or "force_chains" in name, name
+    assert compared > 10000
 
 
 def test_particles_are_the_bodies_rows_of_their_step(run, csv):
@@ -335,6 +382,14 @@ def test_vtk_cycles_without_thermal_cycles_is_refused_before_any_work(tmp_path):
     assert r.returncode == 2, (r.returncode, r.stderr)
     assert "'outputs.vtk_cycles'" in r.stderr and "thermal" in r.stderr, r.stderr
     assert not (out / "timeseries.csv").exists() and not (out / "vtk").exists()
+
+
+def test_a_bad_vtk_format_is_refused_before_any_work(tmp_path):
+    out = tmp_path / "out"
+    r = ratchet("run", FREE_FALL, "--out", out, "--set", "outputs.vtk_format=xml")
+    assert r.returncode == 2, (r.returncode, r.stderr)
+    assert "field 'outputs.vtk_format': expected \"binary\" or \"ascii\", got \"xml\"" in r.stderr, r.stderr
+    assert not out.exists() or not any(out.iterdir())
 
 
 def test_no_vtk_unless_asked(tmp_path):

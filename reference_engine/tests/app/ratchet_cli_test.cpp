@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 #include <memory>
+#include <regex>
 #include <sstream>
 #include <string>
 #include <utility>
@@ -66,6 +67,35 @@ TEST(RatchetCli, RunWritesCompleteOutputs) {
   std::ifstream in(d / "out" / "run.json");
   std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   EXPECT_THAT(text, HasSubstr("\"status\": \"completed\""));
+  fs::remove_all(d);
+}
+
+// run.json's provenance (docs/output-format.md, "run.json"): the engine's commit and
+// source hash, the date, the host, the command line word for word, and the scene with
+// its defaults filled in (the seed, the solver's tolerance) beside the scene as run.
+TEST(RatchetCli, RunJsonSaysWhichEngineWhenWhereAndHow) {
+  const fs::path d = scratch();
+  write(d / "s.json", kScene);
+  const Result r = run("run " + (d / "s.json").string() + " --out " + (d / "out").string() +
+                       " --set outputs.timeseries_every=5 --quiet");
+  ASSERT_EQ(r.status, 0) << r.output;
+  const nlohmann::json j = nlohmann::json::parse(std::ifstream(d / "out" / "run.json"));
+  const std::string commit = j.at("engine").at("commit");
+  // 40 hex digits (and "+modified" when the tree had changes), or "unknown" without git.
+  EXPECT_TRUE(std::regex_match(commit, std::regex("([0-9a-f]{40}(\\+modified)?|unknown)"))) << commit;
+  EXPECT_TRUE(std::regex_match(j.at("engine").at("source_hash").get<std::string>(), std::regex("[0-9a-f]{16}")));
+  const nlohmann::json& p = j.at("provenance");
+  EXPECT_TRUE(std::regex_match(p.at("date_utc").get<std::string>(),
+                               std::regex(R"(\d{4}-\d\d-\d\dT\d\d:\d\d:\d\dZ)")));
+  EXPECT_FALSE(p.at("host").get<std::string>().empty());
+  EXPECT_EQ(p.at("command_line"), nlohmann::json({RATCHET_BIN, "run", (d / "s.json").string(), "--out",
+                                                  (d / "out").string(), "--set", "outputs.timeseries_every=5",
+                                                  "--quiet"}));
+  EXPECT_FALSE(j.at("scene").contains("seed"));  // as run: the file and the --set
+  EXPECT_EQ(j.at("scene").at("outputs").at("timeseries_every"), 5);
+  EXPECT_EQ(j.at("effective_scene").at("seed"), 1);
+  EXPECT_EQ(j.at("effective_scene").at("solver").at("tolerance"), 1e-4);
+  EXPECT_EQ(j.at("effective_scene").at("outputs").at("timeseries_every"), 5);
   fs::remove_all(d);
 }
 
@@ -331,6 +361,26 @@ TEST(RatchetCli, JobsMustBeAWholeNumberOfAtLeastOne) {
   }
   EXPECT_THAT(run("sweep " + sweep + " --out " + out + " --jobs=2x").output, HasSubstr("got '2x'"));
   EXPECT_THAT(run("sweep " + sweep + " --out " + out + " --jobs").output, HasSubstr("ratchet: --jobs needs a value"));
+  EXPECT_FALSE(fs::exists(out));
+  fs::remove_all(d);
+}
+
+// A sweep's bad list of points stops it with status 2 before any work, naming the
+// sweep file and the field (docs/sweeps.md, "Errors come before any work").
+TEST(RatchetCli, BadSweepPointsAreRefusedNamingFileAndField) {
+  const fs::path d = scratch();
+  const std::string out = (d / "o").string(), sweep = (d / "pts.json").string();
+  write(sweep, std::string(R"({"scene": )") + kThermalScene +
+                   R"(, "points": [{"thermal.alpha_c": 1e-3}, {"thermal.alpha_p": 1e-4}]})");
+  Result r = run("sweep " + sweep + " --out " + out);
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("ratchet: error: " + sweep +
+                                  ": field 'points[1]': expected the fields of points[0] (thermal.alpha_c), got "
+                                  "thermal.alpha_p"));
+  write(sweep, std::string(R"({"scene": )") + kThermalScene + R"(, "points": {"thermal.alpha_c": 1e-3}})");
+  r = run("sweep " + sweep + " --out " + out);
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_THAT(r.output, HasSubstr(sweep + ": field 'points': expected a non-empty list of points"));
   EXPECT_FALSE(fs::exists(out));
   fs::remove_all(d);
 }

@@ -51,10 +51,14 @@ json bed() {
 }
 
 
-// run.json without what a clock decides.
+// run.json without what a clock and the invocation decide: the timings and the
+// provenance (date, host, command line; run/provenance.hpp). A resumed run's provenance
+// lists its resumes, and is the whole run's otherwise.
 json without_timings(json j) {
   j.erase("wall_seconds");
   for (auto& p : j["phases"]) p.erase("seconds");
+  EXPECT_TRUE(j.at("provenance").at("date_utc").is_string());
+  j.erase("provenance");
   return j;
 }
 
@@ -252,6 +256,10 @@ TEST(Checkpoint, ARunFromAPackingResumesWithThePackingsRecord) {
   const json whole = json::parse(read_text(d / "whole" / "run.json"));
   ASSERT_FALSE(whole.at("packing").is_null());
   expect_same_outputs(d / "whole", d / "stopped");
+  const json resumed = json::parse(read_text(d / "stopped" / "run.json"));
+  EXPECT_FALSE(whole.at("provenance").contains("resumed"));
+  ASSERT_EQ(resumed.at("provenance").at("resumed").size(), 1u);  // the run started once and was resumed once
+  EXPECT_TRUE(resumed.at("provenance").at("resumed").at(0).at("date_utc").is_string());
 }
 
 TEST(Checkpoint, ReadingRefusesWhatCannotBeResumedNamingTheFile) {

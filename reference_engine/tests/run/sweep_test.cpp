@@ -1,6 +1,7 @@
-// Sweep plans: the grid's cartesian product (last key fastest, seeds innermost), seeds
-// versus realizations, the scene of each run, packings shared by the runs that differ
-// only in what the packing key leaves out, rejected sweep files, and the completion test.
+// Sweep plans: the grid's cartesian product (last key fastest, seeds innermost), a list
+// of points, seeds versus realizations, the scene of each run, packings shared by the
+// runs that differ only in what the packing key leaves out, rejected sweep files, and
+// the completion test (same scene, same engine) for runs and packings.
 #include "ratchet/run/sweep.hpp"
 
 #include <gmock/gmock.h>
@@ -9,7 +10,11 @@
 #include <filesystem>
 #include <fstream>
 
+#include "ratchet/io/state_file.hpp"
+#include "ratchet/run/packing.hpp"
+#include "ratchet/run/run_output.hpp"
 #include "ratchet/scene/scene.hpp"
+#include "ratchet/world/world.hpp"
 
 namespace ratchet {
 namespace {
@@ -62,6 +67,37 @@ TEST(LoadSweep, GridTimesRealizationsInOdometerOrder) {
   }
   EXPECT_EQ(run_dir(plan, 5), (dir.path / "out").string() + "/runs/5");
   EXPECT_EQ(packing_path(plan, "abc"), (dir.path / "out").string() + "/packings/abc.state");
+}
+
+// A list of points: the runs in the list's order, seeds innermost, one column per key.
+TEST(LoadSweep, ListedPointsInTheirOrderTimesSeeds) {
+  Dir dir("points");
+  const json sweep = {{"scene", kScene},
+                      {"points", {{{"thermal.alpha_p", 2e-4}, {"solver.tolerance", 1e-3}},
+                                  {{"thermal.alpha_p", 1e-4}, {"solver.tolerance", 1e-5}}}},
+                      {"seeds", {4, 2}}};
+  const SweepPlan plan = load_sweep(dir.write(sweep), (dir.path / "out").string());
+  EXPECT_EQ(plan.grid_keys, (std::vector<std::string>{"solver.tolerance", "thermal.alpha_p"}));
+  ASSERT_EQ(plan.runs.size(), 4u);
+  const std::vector<double> alpha = {2e-4, 2e-4, 1e-4, 1e-4}, tol = {1e-3, 1e-3, 1e-5, 1e-5};
+  for (std::size_t i = 0; i < 4; ++i) {
+    const SweepRun& r = plan.runs[i];
+    EXPECT_EQ(r.seed, i % 2 == 0 ? 4u : 2u);
+    EXPECT_EQ(r.scene.at("thermal").at("alpha_p"), alpha[i]);
+    EXPECT_EQ(r.scene.at("solver").at("tolerance"), tol[i]);
+    ASSERT_EQ(r.params.size(), 2u);
+    EXPECT_EQ(r.params[1], (std::pair<std::string, json>{"thermal.alpha_p", alpha[i]}));
+  }
+  // A point the scene refuses names its run, before anything is written.
+  const json bad = {{"scene", kScene}, {"points", {{{"time.dt", 0.01}}, {{"time.dt", -1.0}}}}};
+  try {
+    load_sweep(dir.write(bad), (dir.path / "out").string());
+    FAIL() << "a negative time step was taken";
+  } catch (const SceneError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("field 'time.dt'"));
+    EXPECT_THAT(e.what(), HasSubstr("(in run 1 of sweep"));
+  }
+  EXPECT_FALSE(fs::exists(dir.path / "out"));
 }
 
 // alpha_p cannot act before the settle stage ends: one packing per (tolerance, seed).
@@ -120,6 +156,8 @@ TEST(LoadSweep, RejectsBadSweepsBeforeWritingAnything) {
     return std::string("no error");
   };
   EXPECT_THAT(message({{"scene", kScene}, {"grids", json::object()}}), HasSubstr("'grids': unknown field"));
+  EXPECT_THAT(message({{"scene", kScene}, {"grid", {{"time.dt", {0.01}}}}, {"points", {{{"time.dt", 0.01}}}}}),
+              HasSubstr("sweep.json: field 'points': expected either a grid or a list of points, not both"));
   EXPECT_THAT(message({{"grid", json::object()}}), HasSubstr("'scene'"));
   EXPECT_THAT(message({{"scene", kScene}, {"grid", {{"time.dt", json::array()}}}}), HasSubstr("grid.time.dt"));
   EXPECT_THAT(message({{"scene", kScene}, {"realizations", 0}}), HasSubstr("realizations"));
@@ -129,7 +167,7 @@ TEST(LoadSweep, RejectsBadSweepsBeforeWritingAnything) {
   EXPECT_FALSE(fs::exists(out));
 }
 
-TEST(RunCompleted, OnlyACompletedRunJsonOfTheSameScene) {
+TEST(RunCompleted, OnlyACompletedRunJsonOfTheSameSceneAndEngine) {
   Dir dir("completed");
   const SweepPlan plan = load_sweep(dir.write({{"scene", kScene}, {"realizations", 1}}), dir.path.string());
   ASSERT_EQ(plan.runs.size(), 1u);
@@ -137,12 +175,49 @@ TEST(RunCompleted, OnlyACompletedRunJsonOfTheSameScene) {
   EXPECT_FALSE(run_completed(plan, run));
   fs::create_directories(run_dir(plan, 0));
   auto write = [&](const json& j) { std::ofstream(run_dir(plan, 0) + "/run.json") << j.dump(); };
-  write({{"status", "completed"}, {"scene_hash", fnv1a_hex(run.scene.dump())}});
+  const std::string hash = fnv1a_hex(run.scene.dump());
+  write({{"status", "completed"}, {"scene_hash", hash}, {"engine", engine_record()}});
   EXPECT_TRUE(run_completed(plan, run));
-  write({{"status", "completed"}, {"scene_hash", "0000000000000000"}});  // another scene
+  write({{"status", "completed"}, {"scene_hash", "0000000000000000"}, {"engine", engine_record()}});  // another scene
   EXPECT_FALSE(run_completed(plan, run));
-  write({{"status", "running"}, {"scene_hash", fnv1a_hex(run.scene.dump())}});
+  write({{"status", "running"}, {"scene_hash", hash}, {"engine", engine_record()}});
   EXPECT_FALSE(run_completed(plan, run));
+  // Another engine: the same version built from other sources, or a run.json from
+  // before the engine was recorded. Its run is run again.
+  json other = engine_record();
+  other["source_hash"] = "0123456789abcdef";
+  write({{"status", "completed"}, {"scene_hash", hash}, {"engine", other}});
+  EXPECT_FALSE(run_completed(plan, run));
+  write({{"status", "completed"}, {"scene_hash", hash}});
+  EXPECT_FALSE(run_completed(plan, run));
+  other = engine_record();
+  other["version"] = "0.0.1";
+  write({{"status", "completed"}, {"scene_hash", hash}, {"engine", other}});
+  EXPECT_FALSE(run_completed(plan, run));
+  // The commit is provenance, not identity: a commit that left the engine alone keeps the run.
+  other = engine_record();
+  other["commit"] = "0000000000000000000000000000000000000000";
+  write({{"status", "completed"}, {"scene_hash", hash}, {"engine", other}});
+  EXPECT_TRUE(run_completed(plan, run));
+}
+
+// A packing made by another engine is made again, never reused.
+TEST(PackingReady, OnlyAWholePackingOfTheSameKeyAndEngine) {
+  Dir dir("packing_engine");
+  const SweepPlan plan = load_sweep(dir.write({{"scene", kScene}}), dir.path.string());
+  ASSERT_EQ(plan.packings.size(), 1u);
+  const SweepPacking& p = plan.packings[0];
+  EXPECT_FALSE(packing_ready(plan, p));  // missing
+  World world(build_scene(plan.runs[0].scene, "s.json"));
+  fs::create_directories(dir.path / "packings");
+  write_packing(packing_path(plan, p.key), world, json::object());
+  EXPECT_TRUE(packing_ready(plan, p));
+  StateFile f = read_state_file(packing_path(plan, p.key));
+  EXPECT_EQ(f.meta.at("engine"), engine_record());
+  f.meta["engine"]["source_hash"] = "0123456789abcdef";
+  write_state_file(packing_path(plan, p.key), f);
+  EXPECT_FALSE(packing_ready(plan, p));
+  EXPECT_EQ(needed_packings(plan), (std::vector<int>{0}));
 }
 
 }  // namespace

@@ -197,6 +197,82 @@ TEST(Scene, VtkOutputsAreChecked) {
   std::filesystem::remove_all(dir);
 }
 
+TEST(Scene, VtkFormatIsBinaryUnlessAsciiIsAsked) {
+  json j = minimal_scene();
+  EXPECT_FALSE(build_scene(j, "scene.json").outputs.vtk_ascii);
+  j["outputs"] = {{"vtk_format", "ascii"}};
+  EXPECT_TRUE(build_scene(j, "scene.json").outputs.vtk_ascii);
+  j["outputs"] = {{"vtk_format", "binary"}};
+  EXPECT_FALSE(build_scene(j, "scene.json").outputs.vtk_ascii);
+  for (const char* bad : {"\"xml\"", "\"ASCII\"", "1", "true"}) {
+    j["outputs"] = {{"vtk_format", json::parse(bad)}};
+    EXPECT_THAT(error_of(j), HasSubstr("scene.json: field 'outputs.vtk_format': expected")) << bad;
+  }
+  j["outputs"] = {{"vtk_format", "xml"}};
+  EXPECT_THAT(error_of(j), HasSubstr("expected \"binary\" or \"ascii\", got \"xml\""));
+}
+
+// The effective scene: every default the reader took, written in, so that a run.json
+// says everything the run used (a generated bed's seed, the solver's tolerance ...);
+// what the scene wrote is kept as written; read back, it is the same scene.
+TEST(Scene, EffectiveSceneFillsEveryDefaultAndReadsBackTheSame) {
+  json j = minimal_scene();
+  j["particles"] = {{"generate", {{"count", 30}}}};
+  j["container"] = {{"type", "cone"}};
+  j["solver"] = {{"tolerance", 1e-6}};
+  j["thermal"] = {{"heat_time", 1.0}, {"cycles", 4}};
+  j.erase("time");
+  j["time"] = {{"dt", 0.01}};  // the duration comes from the protocol
+  const SceneDef s = build_scene(j, "scene.json");
+  const json& e = s.effective;
+  EXPECT_EQ(s.as_run, j);  // the scene as run is left alone
+  EXPECT_EQ(e.at("seed"), 1);
+  EXPECT_EQ(e.at("gravity"), json({0.0, 0.0, -1.0}));
+  EXPECT_EQ(e.at("time").at("duration"), s.duration);
+  EXPECT_EQ(e.at("solver").at("tolerance"), 1e-6);  // as written
+  EXPECT_EQ(e.at("solver").at("max_iterations"), 1000);
+  EXPECT_EQ(e.at("solver").at("criterion"), "impulse");
+  EXPECT_EQ(e.at("solver").at("acceleration"), "none");
+  EXPECT_EQ(e.at("materials").at("friction"), 0.5);
+  EXPECT_EQ(e.at("effects").at("rotation"), true);
+  EXPECT_EQ(e.at("container").at("segments"), 16);
+  EXPECT_EQ(e.at("container").at("bottom_radius"), 8.5);
+  EXPECT_EQ(e.at("thermal").at("cool_time"), 1.0);  // the heating time, its default
+  EXPECT_EQ(e.at("thermal").at("T1"), 100.0);
+  EXPECT_EQ(e.at("particles").at("generate").at("vertices"), 20);
+  EXPECT_EQ(e.at("particles").at("generate").at("shape"), "polyhedron");
+  EXPECT_EQ(e.at("particles").at("generate").at("radius_range"), json({0.5, 1.0}));
+  EXPECT_EQ(e.at("particles").at("generate").at("spacing"), 2.5);
+  EXPECT_EQ(e.at("outputs").at("vtk_format"), "binary");
+  EXPECT_EQ(e.at("outputs").at("checkpoint_every"), kDefaultCheckpointEvery);
+  EXPECT_EQ(e.at("outputs").at("steady_cycles"), json({2, 3}));  // the second half of 4 cycles
+  EXPECT_EQ(e.at("outputs").at("vtk_cycles"), json::array());
+  EXPECT_FALSE(e.contains("settle"));                         // absent means none
+  EXPECT_FALSE(e.at("outputs").contains("displacement"));
+  EXPECT_FALSE(e.at("particles").at("generate").contains("region"));
+  // Read back: the same effective scene and the same bodies, to the bit.
+  const SceneDef back = build_scene(e, "effective.json");
+  EXPECT_EQ(back.effective, e);
+  ASSERT_EQ(back.bodies.size(), s.bodies.size());
+  for (std::size_t i = 0; i < s.bodies.size(); ++i) {
+    EXPECT_EQ(back.bodies[i].position, s.bodies[i].position);
+    EXPECT_EQ(back.bodies[i].orientation.coeffs(), s.bodies[i].orientation.coeffs());
+    EXPECT_EQ(back.shapes[i].vertices, s.shapes[i].vertices);
+  }
+  EXPECT_EQ(back.steps, s.steps);
+  EXPECT_EQ(back.solver.tolerance, s.solver.tolerance);
+  // Listed bodies get their defaults too, each at its own index.
+  const SceneDef listed = build_scene(minimal_scene(), "scene.json");
+  const json& body = listed.effective.at("particles").at("bodies").at(0);
+  EXPECT_EQ(body.at("velocity"), json({0.0, 0.0, 0.0}));
+  EXPECT_EQ(body.at("orientation"), json({1.0, 0.0, 0.0, 0.0}));
+  EXPECT_EQ(body.at("fixed"), false);
+  EXPECT_EQ(listed.effective.at("container").at("planes").at(0).at("expands"), false);
+  EXPECT_FALSE(listed.effective.contains("thermal"));
+  EXPECT_FALSE(listed.effective.at("outputs").contains("steady_cycles"));  // no cycles to average
+  EXPECT_EQ(build_scene(listed.effective, "effective.json").effective, listed.effective);
+}
+
 // outputs.displacement.stages: off unless asked (scenes that do not ask pay nothing).
 TEST(Scene, DisplacementStagesIsABooleanOffByDefault) {
   json j = minimal_scene();

@@ -1,9 +1,9 @@
 #include "ratchet/observe/vtk_writer.hpp"
 
 #include <cmath>
-#include <locale>
-#include <ostream>
+#include <cstdint>
 #include <stdexcept>
+#include <type_traits>
 
 #include "ratchet/core/contact_side.hpp"
 #include "ratchet/io/atomic_file.hpp"
@@ -11,19 +11,11 @@
 namespace ratchet {
 namespace {
 
-// 12 significant digits: far below what a picture resolves, and a third smaller than
-// round-trip precision (17); the output is still deterministic. The time is written
-// to round trip, as in the CSVs, so that it matches their t column exactly.
-constexpr int kDigits = 12;
-constexpr int kTimeDigits = 17;
-
 void check_finite(bool ok, const std::string& what) {
   if (!ok) throw std::invalid_argument(what + " is not finite");
 }
 
-void put(std::ostream& out, const Vec3& p) { out << p.x() << ' ' << p.y() << ' ' << p.z(); }
-
-// Connectivity and offsets of one cell block (Verts or Polys), as VTK stores them.
+// Connectivity and offsets of one cell block (Verts, Lines or Polys), as VTK stores them.
 struct CellBlock {
   std::vector<std::int64_t> connectivity, offsets;
   template <class Indices>
@@ -34,60 +26,45 @@ struct CellBlock {
   std::size_t size() const { return offsets.size(); }
 };
 
-// One <DataArray> with `count` tuples; each(i) writes tuple i (components separated by
-// spaces), one tuple per line. Field data (not tied to points or cells) must state its
-// tuple count.
-template <class Each>
-void data_array(std::ostream& out, const char* type, const char* name, int components, std::size_t count,
-                Each&& each, bool field_data = false) {
-  out << "<DataArray type=\"" << type << "\" Name=\"" << name << '"';
-  if (components > 1) out << " NumberOfComponents=\"" << components << '"';
-  if (field_data) out << " NumberOfTuples=\"" << count << '"';
-  out << " format=\"ascii\">\n";
-  for (std::size_t i = 0; i < count; ++i) {
-    each(i);
-    out << '\n';
+// f(item) for every item, as one array (3 components for a Vec3).
+template <class Item, class F>
+auto gather(const std::vector<Item>& items, F&& f) {
+  using T = std::decay_t<decltype(f(items.front()))>;
+  if constexpr (std::is_same_v<T, Vec3>) {
+    std::vector<double> out;
+    out.reserve(3 * items.size());
+    for (const Item& i : items) {
+      const Vec3 v = f(i);
+      out.insert(out.end(), {v.x(), v.y(), v.z()});
+    }
+    return out;
+  } else {
+    std::vector<T> out;
+    out.reserve(items.size());
+    for (const Item& i : items) out.push_back(f(i));
+    return out;
   }
-  out << "</DataArray>\n";
 }
 
-// The file's head up to the opening <Piece>: field data TimeValue and step.
-void begin(std::ostream& out, const VtkTime& time, std::size_t points, std::size_t verts, std::size_t polys,
-           std::size_t lines = 0) {
-  out.imbue(std::locale::classic());  // '.' decimal point whatever the global locale
-  out << "<?xml version=\"1.0\"?>\n"
-         "<VTKFile type=\"PolyData\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n"
-         "<PolyData>\n<FieldData>\n";
-  out.precision(kTimeDigits);
-  data_array(out, "Float64", "TimeValue", 1, 1, [&](std::size_t) { out << time.t; }, true);
-  data_array(out, "Int64", "step", 1, 1, [&](std::size_t) { out << time.step; }, true);
-  out.precision(kDigits);
-  out << "</FieldData>\n<Piece NumberOfPoints=\"" << points << "\" NumberOfVerts=\"" << verts
-      << "\" NumberOfLines=\"" << lines << "\" NumberOfStrips=\"0\" NumberOfPolys=\"" << polys << "\">\n";
-}
-
-void points(std::ostream& out, const std::vector<Vec3>& p) {
-  out << "<Points>\n";
-  data_array(out, "Float64", "Points", 3, p.size(), [&](std::size_t i) { put(out, p[i]); });
-  out << "</Points>\n";
+void points(VtkXml& xml, const std::vector<Vec3>& p) {
+  xml.open("Points");
+  xml.array("Points", 3, gather(p, [](const Vec3& v) { return v; }));
+  xml.close("Points");
 }
 
 // A cell block; left out when empty (the reader takes a missing block as no cells).
-void cells(std::ostream& out, const char* tag, const CellBlock& c) {
+void cells(VtkXml& xml, const char* tag, const CellBlock& c) {
   if (c.size() == 0) return;
-  out << '<' << tag << ">\n";
-  out << "<DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">\n";
-  for (std::size_t i = 0; i < c.connectivity.size(); ++i) out << c.connectivity[i] << (i % 16 == 15 ? '\n' : ' ');
-  out << "\n</DataArray>\n";
-  data_array(out, "Int64", "offsets", 1, c.offsets.size(), [&](std::size_t i) { out << c.offsets[i]; });
-  out << "</" << tag << ">\n";
+  xml.open(tag);
+  xml.array("connectivity", 1, c.connectivity);
+  xml.array("offsets", 1, c.offsets);
+  xml.close(tag);
 }
-
-void end(std::ostream& out) { out << "</Piece>\n</PolyData>\n</VTKFile>\n"; }
 
 }  // namespace
 
-void write_particles_vtp(const std::string& path, const std::vector<VtkBody>& bodies, const VtkTime& time) {
+void write_particles_vtp(const std::string& path, const std::vector<VtkBody>& bodies, const VtkTime& time,
+                         VtkEncoding encoding) {
   check_finite(std::isfinite(time.t), "write_particles_vtp: time");
   // Validate everything first so that a bad body leaves no file behind.
   std::vector<Vec3> pts;
@@ -127,36 +104,33 @@ void write_particles_vtp(const std::string& path, const std::vector<VtkBody>& bo
   for (const VtkBody& b : bodies)
     if (!(b.sphere_radius > 0.0)) cell_body.insert(cell_body.end(), b.faces.size(), &b);
 
-  AtomicFile file(path);
-  std::ostream& out = file.stream();
-  begin(out, time, pts.size(), verts.size(), polys.size());
+  VtkXml xml(encoding, time, pts.size(), verts.size(), 0, polys.size());
   auto body_arrays = [&](const std::vector<const VtkBody*>& of) {
-    const std::size_t n = of.size();
-    data_array(out, "Int32", "body_id", 1, n, [&](std::size_t i) { out << of[i]->id; });
-    data_array(out, "Float64", "velocity", 3, n, [&](std::size_t i) { put(out, of[i]->velocity); });
-    data_array(out, "Float64", "angular_velocity", 3, n, [&](std::size_t i) { put(out, of[i]->angular_velocity); });
-    data_array(out, "Float64", "scale", 1, n, [&](std::size_t i) { out << of[i]->scale; });
+    xml.array("body_id", 1, gather(of, [](const VtkBody* b) { return static_cast<std::int32_t>(b->id); }));
+    xml.array("velocity", 3, gather(of, [](const VtkBody* b) { return b->velocity; }));
+    xml.array("angular_velocity", 3, gather(of, [](const VtkBody* b) { return b->angular_velocity; }));
+    xml.array("scale", 1, gather(of, [](const VtkBody* b) { return b->scale; }));
     // The size of every body, spheres and polyhedra alike, to colour or filter by.
-    data_array(out, "Float64", "volume", 1, n, [&](std::size_t i) { out << of[i]->volume; });
-    data_array(out, "Float64", "equivalent_radius", 1, n,
-               [&](std::size_t i) { out << std::cbrt(3.0 * of[i]->volume / (4.0 * M_PI)); });
+    xml.array("volume", 1, gather(of, [](const VtkBody* b) { return b->volume; }));
+    xml.array("equivalent_radius", 1,
+              gather(of, [](const VtkBody* b) { return std::cbrt(3.0 * b->volume / (4.0 * M_PI)); }));
   };
-  out << "<PointData>\n";
+  xml.open("PointData");
   body_arrays(point_body);
-  data_array(out, "Float64", "radius", 1, pts.size(), [&](std::size_t i) {
-    out << (point_body[i]->sphere_radius > 0.0 ? point_body[i]->sphere_radius : 0.0);
-  });
-  out << "</PointData>\n<CellData>\n";
+  xml.array("radius", 1,
+            gather(point_body, [](const VtkBody* b) { return b->sphere_radius > 0.0 ? b->sphere_radius : 0.0; }));
+  xml.close("PointData");
+  xml.open("CellData");
   body_arrays(cell_body);
-  out << "</CellData>\n";
-  points(out, pts);
-  cells(out, "Verts", verts);
-  cells(out, "Polys", polys);
-  end(out);
-  file.commit();
+  xml.close("CellData");
+  points(xml, pts);
+  cells(xml, "Verts", verts);
+  cells(xml, "Polys", polys);
+  write_file_atomic(path, xml.finish());
 }
 
-void write_contacts_vtp(const std::string& path, const std::vector<VtkContact>& contacts, const VtkTime& time) {
+void write_contacts_vtp(const std::string& path, const std::vector<VtkContact>& contacts, const VtkTime& time,
+                        VtkEncoding encoding) {
   check_finite(std::isfinite(time.t), "write_contacts_vtp: time");
   std::vector<Vec3> pts;
   CellBlock verts;
@@ -170,27 +144,24 @@ void write_contacts_vtp(const std::string& path, const std::vector<VtkContact>& 
     pts.push_back(c.point);
     verts.add(std::vector<std::size_t>{i}, 0);
   }
-  AtomicFile file(path);
-  std::ostream& out = file.stream();
-  begin(out, time, pts.size(), verts.size(), 0);
-  const std::size_t n = contacts.size();
-  out << "<PointData>\n";
-  data_array(out, "Float64", "normal", 3, n, [&](std::size_t i) { put(out, contacts[i].normal); });
-  data_array(out, "Float64", "normal_force", 3, n, [&](std::size_t i) { put(out, contacts[i].normal_force); });
-  data_array(out, "Float64", "tangential_force", 3, n, [&](std::size_t i) { put(out, contacts[i].tangential_force); });
-  data_array(out, "Float64", "normal_force_magnitude", 1, n,
-             [&](std::size_t i) { out << contacts[i].normal.dot(contacts[i].normal_force); });
-  data_array(out, "Float64", "gap", 1, n, [&](std::size_t i) { out << contacts[i].gap; });
-  data_array(out, "Int32", "body_a", 1, n, [&](std::size_t i) { out << contacts[i].body_a; });
-  data_array(out, "Int32", "body_b", 1, n, [&](std::size_t i) { out << contacts[i].body_b; });
-  out << "</PointData>\n";
-  points(out, pts);
-  cells(out, "Verts", verts);
-  end(out);
-  file.commit();
+  VtkXml xml(encoding, time, pts.size(), verts.size(), 0, 0);
+  using C = const VtkContact&;
+  xml.open("PointData");
+  xml.array("normal", 3, gather(contacts, [](C c) { return c.normal; }));
+  xml.array("normal_force", 3, gather(contacts, [](C c) { return c.normal_force; }));
+  xml.array("tangential_force", 3, gather(contacts, [](C c) { return c.tangential_force; }));
+  xml.array("normal_force_magnitude", 1, gather(contacts, [](C c) { return c.normal.dot(c.normal_force); }));
+  xml.array("gap", 1, gather(contacts, [](C c) { return c.gap; }));
+  xml.array("body_a", 1, gather(contacts, [](C c) { return static_cast<std::int32_t>(c.body_a); }));
+  xml.array("body_b", 1, gather(contacts, [](C c) { return static_cast<std::int32_t>(c.body_b); }));
+  xml.close("PointData");
+  points(xml, pts);
+  cells(xml, "Verts", verts);
+  write_file_atomic(path, xml.finish());
 }
 
-void write_force_chains_vtp(const std::string& path, const std::vector<VtkContact>& contacts, const VtkTime& time) {
+void write_force_chains_vtp(const std::string& path, const std::vector<VtkContact>& contacts, const VtkTime& time,
+                            VtkEncoding encoding) {
   check_finite(std::isfinite(time.t), "write_force_chains_vtp: time");
   std::vector<Vec3> pts;
   CellBlock lines;
@@ -205,25 +176,22 @@ void write_force_chains_vtp(const std::string& path, const std::vector<VtkContac
     pts.push_back(c.to);
     lines.add(std::vector<std::size_t>{0, 1}, static_cast<std::int64_t>(2 * i));
   }
-  AtomicFile file(path);
-  std::ostream& out = file.stream();
-  begin(out, time, pts.size(), 0, 0, lines.size());
-  const std::size_t n = contacts.size();
-  out << "<CellData>\n";
-  data_array(out, "Float64", "normal_force", 1, n, [&](std::size_t i) { out << contacts[i].normal.dot(contacts[i].normal_force); });
-  data_array(out, "Float64", "tangential_force", 1, n, [&](std::size_t i) { out << contacts[i].tangential_force.norm(); });
-  data_array(out, "Int32", "status", 1, n, [&](std::size_t i) { out << contacts[i].status; });
-  data_array(out, "Int32", "body_a", 1, n, [&](std::size_t i) { out << contacts[i].body_a; });
-  data_array(out, "Int32", "body_b", 1, n, [&](std::size_t i) { out << contacts[i].body_b; });
-  out << "</CellData>\n";
-  points(out, pts);
-  cells(out, "Lines", lines);
-  end(out);
-  file.commit();
+  VtkXml xml(encoding, time, pts.size(), 0, lines.size(), 0);
+  using C = const VtkContact&;
+  xml.open("CellData");
+  xml.array("normal_force", 1, gather(contacts, [](C c) { return c.normal.dot(c.normal_force); }));
+  xml.array("tangential_force", 1, gather(contacts, [](C c) { return c.tangential_force.norm(); }));
+  xml.array("status", 1, gather(contacts, [](C c) { return static_cast<std::int32_t>(c.status); }));
+  xml.array("body_a", 1, gather(contacts, [](C c) { return static_cast<std::int32_t>(c.body_a); }));
+  xml.array("body_b", 1, gather(contacts, [](C c) { return static_cast<std::int32_t>(c.body_b); }));
+  xml.close("CellData");
+  points(xml, pts);
+  cells(xml, "Lines", lines);
+  write_file_atomic(path, xml.finish());
 }
 
 void write_container_vtp(const std::string& path, const ContainerMesh& mesh, const std::vector<Vec3>& normal,
-                         const std::vector<double>& normal_force, const VtkTime& time) {
+                         const std::vector<double>& normal_force, const VtkTime& time, VtkEncoding encoding) {
   const std::string what = "write_container_vtp: ";
   check_finite(std::isfinite(time.t), what + "time");
   const std::size_t n = mesh.polygons.size();
@@ -243,19 +211,16 @@ void write_container_vtp(const std::string& path, const ContainerMesh& mesh, con
     check_finite(normal[i].allFinite() && std::isfinite(normal_force[i]), what + "polygon " + std::to_string(i) + " data");
     polys.add(f, 0);
   }
-  AtomicFile file(path);
-  std::ostream& out = file.stream();
-  begin(out, time, mesh.points.size(), 0, polys.size());
-  out << "<CellData>\n";
-  data_array(out, "Int32", "wall_index", 1, n, [&](std::size_t i) { out << mesh.wall[i]; });
-  data_array(out, "Int32", "side_id", 1, n, [&](std::size_t i) { out << wall_side(mesh.wall[i]); });
-  data_array(out, "Float64", "normal", 3, n, [&](std::size_t i) { put(out, normal[i]); });
-  data_array(out, "Float64", "normal_force", 1, n, [&](std::size_t i) { out << normal_force[i]; });
-  out << "</CellData>\n";
-  points(out, mesh.points);
-  cells(out, "Polys", polys);
-  end(out);
-  file.commit();
+  VtkXml xml(encoding, time, mesh.points.size(), 0, 0, polys.size());
+  xml.open("CellData");
+  xml.array("wall_index", 1, gather(mesh.wall, [](int w) { return static_cast<std::int32_t>(w); }));
+  xml.array("side_id", 1, gather(mesh.wall, [](int w) { return static_cast<std::int32_t>(wall_side(w)); }));
+  xml.array("normal", 3, gather(normal, [](const Vec3& v) { return v; }));
+  xml.array("normal_force", 1, normal_force);
+  xml.close("CellData");
+  points(xml, mesh.points);
+  cells(xml, "Polys", polys);
+  write_file_atomic(path, xml.finish());
 }
 
 }  // namespace ratchet

@@ -1,7 +1,7 @@
 // Snapshots for ParaView (docs/output-format.md, "VTK files"; paper Fig. 4): VTK XML
-// PolyData files (.vtp, "VTK User's Guide", "VTK File Formats", XML format), ASCII data
-// arrays, one piece. Every file carries the field data TimeValue (the simulated time,
-// which ParaView shows as the time of the file) and step. Written atomically
+// PolyData files (.vtp), one piece, the data arrays zlib-compressed binary or ASCII
+// (observe/vtk_xml.hpp). Every file carries the field data TimeValue (the simulated
+// time, which ParaView shows as the time of the file) and step. Written atomically
 // (PATH.partial, then rename; io/atomic_file.hpp). Plain data, no World.
 //
 // Each writer validates all of its input first, so bad input leaves no file behind:
@@ -15,14 +15,9 @@
 
 #include "ratchet/core/types.hpp"
 #include "ratchet/observe/container_mesh.hpp"
+#include "ratchet/observe/vtk_xml.hpp"
 
 namespace ratchet {
-
-// The state a file shows: field data TimeValue (double) and step (Int64).
-struct VtkTime {
-  double t = 0.0;
-  std::int64_t step = 0;
-};
 
 // One body. A polyhedron gives its world vertices and faces (indices into vertices,
 // each face >= 3 of them, counter-clockwise seen from outside); a sphere gives exactly
@@ -44,7 +39,8 @@ struct VtkBody {
 // polyhedron vertices; for ParaView's Glyph filter), velocity, angular_velocity (3
 // components), scale, volume and equivalent_radius (of the sphere of that volume) of the
 // point's body. CellData: the same of the cell's body but radius.
-void write_particles_vtp(const std::string& path, const std::vector<VtkBody>& bodies, const VtkTime& time);
+void write_particles_vtp(const std::string& path, const std::vector<VtkBody>& bodies, const VtkTime& time,
+                        VtkEncoding encoding = VtkEncoding::Binary);
 
 // One contact point: its position, the normal (unit, from B towards A), the forces on
 // A (impulse / h), the gap and the bodies (body_b < 0: wall -1 - body_b).
@@ -70,13 +66,15 @@ constexpr int kContactSlip = 2;   // on the cone: |f_t| = mu f_n to round-off
 // normal_force, tangential_force (3 components), normal_force_magnitude (the signed
 // normal force n . normal_force, >= 0 from the solver), gap (Float64), body_a, body_b
 // (Int32).
-void write_contacts_vtp(const std::string& path, const std::vector<VtkContact>& contacts, const VtkTime& time);
+void write_contacts_vtp(const std::string& path, const std::vector<VtkContact>& contacts, const VtkTime& time,
+                       VtkEncoding encoding = VtkEncoding::Binary);
 
 // Force chains: one Lines cell per contact, from A's centre to B's (or to the contact
 // point on a wall), two points per line. CellData: normal_force (n . normal_force),
 // tangential_force (its magnitude; Float64), status (Int32: 0 open, 1 stick, 2 slip),
 // body_a, body_b (Int32).
-void write_force_chains_vtp(const std::string& path, const std::vector<VtkContact>& contacts, const VtkTime& time);
+void write_force_chains_vtp(const std::string& path, const std::vector<VtkContact>& contacts, const VtkTime& time,
+                           VtkEncoding encoding = VtkEncoding::Binary);
 
 // Container walls: one Polys cell per polygon of the mesh (observe/container_mesh.hpp).
 // CellData: wall_index (Int32, index into the scene's walls), side_id (Int32, the
@@ -84,6 +82,7 @@ void write_force_chains_vtp(const std::string& path, const std::vector<VtkContac
 // the container) and normal_force (the wall's total normal force; Float64).
 // `normal` and `normal_force` give one entry per polygon.
 void write_container_vtp(const std::string& path, const ContainerMesh& mesh, const std::vector<Vec3>& normal,
-                         const std::vector<double>& normal_force, const VtkTime& time);
+                         const std::vector<double>& normal_force, const VtkTime& time,
+                         VtkEncoding encoding = VtkEncoding::Binary);
 
 }  // namespace ratchet

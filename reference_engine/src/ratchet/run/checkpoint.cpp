@@ -4,6 +4,7 @@
 
 #include "ratchet/io/json_numbers.hpp"
 #include "ratchet/io/state_file.hpp"
+#include "ratchet/run/run_output.hpp"
 
 namespace ratchet {
 
@@ -58,6 +59,7 @@ void write_checkpoint(const std::string& dir, const World& world, const nlohmann
   f.key = s.hash;
   f.meta = {{"kind", kKind},
             {"engine_version", RATCHET_VERSION},
+            {"engine", engine_record()},
             {"scene_file", s.source},
             {"scene", s.as_run},
             {"world", progress_json(world.progress())},
@@ -79,6 +81,8 @@ ResumePoint read_checkpoint(const std::string& dir) {
   if (version != RATCHET_VERSION)
     throw StateFileError(p.path + ": written by engine version " + version + ", this is " + RATCHET_VERSION +
                          ": only the same engine continues a run bit for bit");
+  if (const std::string other = other_engine(m.value("engine", nlohmann::json())); !other.empty())
+    throw StateFileError(p.path + ": " + other + ": only the same engine continues a run bit for bit");
   try {
     p.scene = build_scene(m.at("scene"), m.at("scene_file").get<std::string>());
     if (p.scene.hash != f.key)

@@ -32,7 +32,8 @@ struct ResumePoint {
 };
 
 // Reads DIR/checkpoint.state. Throws StateFileError (io/state_file.hpp) naming the file
-// when it is missing, damaged, of another engine version or not a checkpoint, and
+// when it is missing, damaged, of another engine (version or source hash,
+// run_output.hpp other_engine) or not a checkpoint, and
 // SceneError when its scene no longer builds.
 ResumePoint read_checkpoint(const std::string& dir);
 

@@ -7,6 +7,7 @@
 #include "ratchet/io/json_numbers.hpp"
 #include "ratchet/io/state_file.hpp"
 #include "ratchet/observe/energy.hpp"
+#include "ratchet/run/run_output.hpp"
 #include "ratchet/run/runner.hpp"
 #include "ratchet/run/state_bounds.hpp"
 #include "ratchet/run/time_marks.hpp"
@@ -204,7 +205,7 @@ void write_packing(const std::string& path, const World& world, const json& sett
   f.meta["packing_scene"] = packing_scene(s.as_run);
   f.meta["settle"] = settle;
   f.meta["made_from"] = {{"scene_file", s.source}, {"scene_hash", s.hash}};
-  f.meta["engine"] = {{"name", "ratchet"}, {"version", RATCHET_VERSION}, {"build_type", RATCHET_BUILD_TYPE}};
+  f.meta["engine"] = engine_record();
   f.state = world.state();
   write_state_file(path, f);
 }

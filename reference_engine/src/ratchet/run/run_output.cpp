@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "ratchet/core/build_info.hpp"
 #include "ratchet/observe/bed_geometry.hpp"
 #include "ratchet/observe/energy.hpp"
 #include "ratchet/observe/wall_pressure.hpp"
@@ -136,13 +137,34 @@ void RunOutput::write_run_json(const World& world, const nlohmann::json& summary
   write_file_atomic(dir_ + "/run.json", meta.dump(2) + "\n");
 }
 
+nlohmann::json engine_record() {
+  return {{"name", "ratchet"},
+          {"version", RATCHET_VERSION},
+          {"build_type", RATCHET_BUILD_TYPE},
+          {"commit", engine_commit()},
+          {"source_hash", engine_source_hash()}};
+}
+
+std::string other_engine(const nlohmann::json& recorded) {
+  const nlohmann::json mine = engine_record();
+  auto field = [&](const char* key) {
+    return recorded.is_object() && recorded.contains(key) && recorded.at(key).is_string() ? recorded.at(key).get<std::string>()
+                                                                                        : std::string("none");
+  };
+  const std::string version = field("version"), source = field("source_hash");
+  if (version == mine.at("version") && source == mine.at("source_hash")) return "";
+  return "made by engine " + version + " source " + source + ", this is " + mine.at("version").get<std::string>() +
+         " source " + mine.at("source_hash").get<std::string>();
+}
+
 nlohmann::json run_metadata(const World& world) {
   const SceneDef& sc = world.scene();
   nlohmann::json j;
-  j["engine"] = {{"name", "ratchet"}, {"version", RATCHET_VERSION}, {"build_type", RATCHET_BUILD_TYPE}};
+  j["engine"] = engine_record();
   j["scene_file"] = sc.source;
   j["scene_hash"] = sc.hash;
   j["scene"] = sc.as_run;
+  j["effective_scene"] = sc.effective;
   j["effects"] = {{"gravity", sc.effects.gravity},
                   {"friction", sc.effects.friction},
                   {"rotation", sc.effects.rotation},

@@ -48,7 +48,18 @@ class RunOutput {
 // indexes. Other files are left alone. Returns the paths removed.
 std::vector<std::string> remove_previous_outputs(const std::string& dir);
 
-// Run metadata: scene as run, hash, engine version, effects, plan, timings.
+// The engine that wrote a file: {name, version, build_type, commit, source_hash}
+// (core/build_info.hpp). Sweeps reuse a run or a packing only when it matches.
+nlohmann::json engine_record();
+
+// Empty when `recorded` (a file's "engine" object) is this engine: the same version
+// and source hash (the hash covers the sources, the build type and the compiler, and
+// is the same for every commit that leaves the engine alone). Otherwise why not, e.g.
+// "made by engine 0.1.0 source 1a2b..., this is 0.1.0 source 3c4d...".
+std::string other_engine(const nlohmann::json& recorded);
+
+// Run metadata: engine, scene as run and with its defaults filled in, hash, effects,
+// plan, timings.
 nlohmann::json run_metadata(const World& world);
 
 // 17 significant digits (%.17g): always reads back to the same double.

@@ -19,6 +19,7 @@
 #include "ratchet/run/observers.hpp"
 #include "ratchet/run/checkpoint.hpp"
 #include "ratchet/run/packing.hpp"
+#include "ratchet/run/provenance.hpp"
 #include "ratchet/run/run_output.hpp"
 #include "ratchet/run/run_warnings.hpp"
 #include "ratchet/run/state_bounds.hpp"
@@ -75,10 +76,11 @@ int terminal_columns(int fd) {
 namespace {
 
 // What the runner keeps besides the world and observers, for a checkpoint.
-nlohmann::json run_record(const nlohmann::json& packing, const nlohmann::json& packing_settle,
-                          const RunWarnings& warnings, const SettleMonitor* settle, const RunObservers& observers,
-                          RunOutput& out) {
-  return {{"packing", packing},
+nlohmann::json run_record(const nlohmann::json& provenance, const nlohmann::json& packing,
+                          const nlohmann::json& packing_settle, const RunWarnings& warnings,
+                          const SettleMonitor* settle, const RunObservers& observers, RunOutput& out) {
+  return {{"provenance", provenance},
+          {"packing", packing},
           {"packing_settle", packing_settle},
           {"warnings", warnings.save()},
           {"settle_monitor", settle ? settle->save() : nlohmann::json(nullptr)},
@@ -110,6 +112,9 @@ RunResult run_world(World& world, const RunOptions& options, const std::function
   // The packing the run started from (null: none), as the interrupted run had it.
   const nlohmann::json packing = resuming ? saved.at("packing") : options.packing;
   const nlohmann::json packing_settle = resuming ? saved.at("packing_settle") : options.packing_settle;
+  const nlohmann::json invocation = invocation_record(options.command_line);
+  const nlohmann::json provenance =
+      resuming ? resumed_provenance(saved.value("provenance", nlohmann::json()), invocation) : invocation;
   RunObservers observers = resuming ? RunObservers(world, options.out_dir, saved.at("observers"))
                                     : RunObservers(world, options.out_dir);
   RunWarnings warnings = resuming ? RunWarnings(saved.at("warnings")) : RunWarnings();
@@ -187,19 +192,19 @@ RunResult run_world(World& world, const RunOptions& options, const std::function
         const std::string what = scene.source + ": stopped by " + signal_name(sig) + " after step " +
                                  std::to_string(k) + " of " + std::to_string(total);
         if (out) {
-          write_checkpoint(options.out_dir, world, run_record(packing, packing_settle, warnings, settle ? &*settle : nullptr, observers, *out));
+          write_checkpoint(options.out_dir, world, run_record(provenance, packing, packing_settle, warnings, settle ? &*settle : nullptr, observers, *out));
           out->interrupt(world, {{"status", "interrupted"},
                                  {"error", what},
                                  {"signal", signal_name(sig)},
                                  {"checkpoint", kCheckpointFileName},
                                  {"resume", "ratchet run --resume " + options.out_dir},
                                  {"wall_seconds", seconds_since_start()},
-                                 {"packing", packing}});
+                                 {"packing", packing}, {"provenance", provenance}});
         }
         throw RunInterrupted(what, sig);
       }
       if (out && every_checkpoint > 0 && k % every_checkpoint == 0 && k < total)
-        write_checkpoint(options.out_dir, world, run_record(packing, packing_settle, warnings, settle ? &*settle : nullptr, observers, *out));
+        write_checkpoint(options.out_dir, world, run_record(provenance, packing, packing_settle, warnings, settle ? &*settle : nullptr, observers, *out));
       if (options.progress) {
         const auto now = std::chrono::steady_clock::now();
         const double since = std::chrono::duration<double>(now - last_print).count();
@@ -233,7 +238,7 @@ RunResult run_world(World& world, const RunOptions& options, const std::function
     // why (docs/output-format.md, "When a run fails").
     if (out) {
       out->finish(world, {{"status", "failed"}, {"error", e.what()}, {"wall_seconds", seconds_since_start()},
-                          {"packing", packing}, {"warnings", warnings.sentences(world)}});
+                          {"packing", packing}, {"provenance", provenance}, {"warnings", warnings.sentences(world)}});
       std::filesystem::remove(options.out_dir + "/" + kCheckpointFileName);  // it would only fail again
     }
     throw;
@@ -255,7 +260,7 @@ RunResult run_world(World& world, const RunOptions& options, const std::function
       std::fprintf(stderr, "%s: warning: %s\n", scene.source.c_str(), w.get<std::string>().c_str());
   if (out) {
     out->finish(world, {{"status", "completed"}, {"wall_seconds", r.wall_seconds}, {"summary", r.summary},
-                        {"settle", r.settle}, {"packing", packing}, {"warnings", r.warnings}});
+                        {"settle", r.settle}, {"packing", packing}, {"provenance", provenance}, {"warnings", r.warnings}});
     std::filesystem::remove(options.out_dir + "/" + kCheckpointFileName);  // the run is whole without it
   }
   return r;

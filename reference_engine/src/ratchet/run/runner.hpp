@@ -4,6 +4,7 @@
 
 #include <functional>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -26,6 +27,9 @@ struct RunOptions {
   // run record (ResumePoint::run), the world already at its state (resume_world). The
   // run then goes on in out_dir exactly as if it had never stopped. Null: a fresh run.
   nlohmann::json resume;
+  // The program's arguments, argv[0] first (run.json provenance, run/provenance.hpp);
+  // empty for a run started from code.
+  std::vector<std::string> command_line;
 };
 
 struct RunResult {

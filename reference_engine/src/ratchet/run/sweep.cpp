@@ -21,6 +21,7 @@
 #include "ratchet/run/run_output.hpp"
 #include "ratchet/run/runner.hpp"
 #include "ratchet/run/stop_request.hpp"
+#include "ratchet/run/sweep_points.hpp"
 #include "ratchet/scene/scene.hpp"
 
 namespace ratchet {
@@ -47,10 +48,11 @@ SweepPlan load_sweep(const std::string& path, const std::string& out_dir,
   const json j = json::parse(in, nullptr, false, true);
   if (j.is_discarded() || !j.is_object()) throw SceneError(path + ": not a valid JSON object");
   for (auto it = j.begin(); it != j.end(); ++it)
-    if (it.key() != "scene" && it.key() != "grid" && it.key() != "realizations" && it.key() != "seeds" &&
-        it.key() != "set" && it.key() != "description")
+    if (it.key() != "scene" && it.key() != "grid" && it.key() != "points" && it.key() != "realizations" &&
+        it.key() != "seeds" && it.key() != "set" && it.key() != "description")
       throw SceneError(path + ": field '" + it.key() +
-                       "': unknown field (known fields here: scene, grid, realizations, seeds, set, description)");
+                       "': unknown field (known fields here: scene, grid, points, realizations, seeds, set, "
+                       "description)");
   SweepPlan plan;
   plan.source = path;
   plan.out_dir = out_dir;
@@ -88,27 +90,18 @@ SweepPlan load_sweep(const std::string& path, const std::string& out_dir,
     if (!r.is_number_integer() || r.get<int>() < 1) fail(path, "realizations", "an integer >= 1");
     for (int s = 1; s <= r.get<int>(); ++s) seeds.push_back(static_cast<std::uint64_t>(s));
   }
-  // Grid: the cartesian product, keys in file order of the (sorted) JSON object.
-  std::vector<std::vector<json>> values;
-  if (j.contains("grid")) {
-    if (!j.at("grid").is_object()) fail(path, "grid", "an object {\"dotted.path\": [values ...]}");
-    for (auto it = j.at("grid").begin(); it != j.at("grid").end(); ++it) {
-      if (!it.value().is_array() || it.value().empty()) fail(path, "grid." + it.key(), "a non-empty list of values");
-      plan.grid_keys.push_back(it.key());
-      values.emplace_back(it.value().begin(), it.value().end());
-    }
-  }
-  std::vector<std::size_t> index(values.size(), 0);
+  // The points: the grid's cartesian product or the list, each one value per key.
+  const std::vector<std::vector<json>> points = sweep_points(j, path, plan.grid_keys);
   int id = 0;
-  for (bool more = true; more;) {
+  for (const std::vector<json>& point : points) {
     for (std::uint64_t seed : seeds) {
       SweepRun run;
       run.id = id++;
       run.seed = seed;
       run.scene = base;
-      for (std::size_t k = 0; k < values.size(); ++k) {
-        run.params.emplace_back(plan.grid_keys[k], values[k][index[k]]);
-        set_path(run.scene, plan.grid_keys[k], values[k][index[k]], path);
+      for (std::size_t k = 0; k < point.size(); ++k) {
+        run.params.emplace_back(plan.grid_keys[k], point[k]);
+        set_path(run.scene, plan.grid_keys[k], point[k], path);
       }
       run.scene["seed"] = seed;
       // Check the run's scene now: a bad grid value stops the sweep before any work.
@@ -122,12 +115,6 @@ SweepPlan load_sweep(const std::string& path, const std::string& out_dir,
         throw SceneError(std::string(e.what()) + " (in run " + std::to_string(run.id) + " of sweep " + path + ")");
       }
       plan.runs.push_back(std::move(run));
-    }
-    // Next grid point (odometer, last key fastest).
-    more = false;
-    for (std::size_t k = values.size(); k-- > 0;) {
-      if (++index[k] < values[k].size()) { more = true; break; }
-      index[k] = 0;
     }
   }
   // Packings in the order of their first run (a linear search: no unordered containers).
@@ -166,10 +153,18 @@ std::optional<ResumePoint> checkpoint_of(const std::string& dir, const SceneDef&
 
 }  // namespace
 
-bool run_completed(const SweepPlan& plan, const SweepRun& run) {
-  const json j = read_run_json(plan, run.id);
-  return j.is_object() && j.value("status", "") == "completed" && j.value("scene_hash", "") == fnv1a_hex(run.scene.dump());
+namespace {
+
+// A run's run.json `j` shows it complete: completed, for the scene the sweep builds
+// now, by this engine (an engine change reruns it: docs/sweeps.md, "Resume").
+bool completed(const json& j, const SweepRun& run) {
+  return j.is_object() && j.value("status", "") == "completed" &&
+         j.value("scene_hash", "") == fnv1a_hex(run.scene.dump()) && other_engine(j.value("engine", json())).empty();
 }
+
+}  // namespace
+
+bool run_completed(const SweepPlan& plan, const SweepRun& run) { return completed(read_run_json(plan, run.id), run); }
 
 std::string packing_path(const SweepPlan& plan, const std::string& key) {
   return plan.out_dir + "/packings/" + key + ".state";
@@ -185,6 +180,9 @@ std::string packing_problem(const SweepPlan& plan, const SweepPacking& packing) 
   try {
     const StateFile f = read_state_file(path);
     if (f.key != packing.key) return path + ": holds key " + f.key;
+    // A packing of another engine may hold another bed: made again, never reused.
+    if (const std::string other = other_engine(f.meta.value("engine", json())); !other.empty())
+      return path + ": " + other;
     return "";
   } catch (const StateFileError& e) {
     return e.what();
@@ -286,6 +284,7 @@ void run_sweep(const SweepPlan& plan, const std::vector<int>& ids, int jobs,
         World world(build_scene(run.scene, plan.source + " run " + std::to_string(run.id)));
         RunOptions opt;
         opt.out_dir = run_dir(plan, run.id);
+        opt.command_line = plan.command_line;
         if (const std::optional<ResumePoint> point = checkpoint_of(opt.out_dir, world.scene())) {
           // An interrupted run goes on from its last checkpoint (run/checkpoint.hpp).
           resume_world(world, *point);
@@ -356,8 +355,7 @@ void write_sweep_summary(const SweepPlan& plan) {
   for (std::size_t i = 0; i < plan.runs.size(); ++i) {
     const SweepRun& run = plan.runs[i];
     const json& m = metas[i];
-    const bool ok = m.is_object() && m.value("status", "") == "completed" &&
-                    m.value("scene_hash", "") == fnv1a_hex(run.scene.dump());
+    const bool ok = completed(m, run);
     csv << run.id;
     for (const auto& p : run.params) csv << ',' << cell(p.second);
     if (!has_alpha_p) {

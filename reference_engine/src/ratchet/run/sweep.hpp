@@ -32,6 +32,7 @@ struct SweepPlan {
   std::vector<std::string> grid_keys;
   std::vector<SweepRun> runs;
   std::vector<SweepPacking> packings;  // in the order of their first run
+  std::vector<std::string> command_line;  // of the program that runs it (the runs' run.json provenance); may be empty
 };
 
 // Reads a sweep file and checks every run's scene (errors name the sweep file, the

@@ -135,10 +135,12 @@ void VtkSnapshots::write(const VtkSnapshot& snap, const std::string& tag) {
   const std::string particles = "particles_" + tag + ".vtp", contacts = "contacts_" + tag + ".vtp",
                     container = "container_" + tag + ".vtp", chains = "force_chains_" + tag + ".vtp";
   const bool walls = !snap.container.polygons.empty();
-  write_particles_vtp(dir + "/" + particles, snap.bodies, snap.time);
-  write_contacts_vtp(dir + "/" + contacts, snap.contacts, snap.time);
-  write_force_chains_vtp(dir + "/" + chains, snap.contacts, snap.time);
-  if (walls) write_container_vtp(dir + "/" + container, snap.container, snap.wall_normal, snap.wall_force, snap.time);
+  const VtkEncoding enc = scene_.outputs.vtk_ascii ? VtkEncoding::Ascii : VtkEncoding::Binary;
+  write_particles_vtp(dir + "/" + particles, snap.bodies, snap.time, enc);
+  write_contacts_vtp(dir + "/" + contacts, snap.contacts, snap.time, enc);
+  write_force_chains_vtp(dir + "/" + chains, snap.contacts, snap.time, enc);
+  if (walls)
+    write_container_vtp(dir + "/" + container, snap.container, snap.wall_normal, snap.wall_force, snap.time, enc);
   // A state written under two tags (a stage end on a step of vtk_every) is indexed once,
   // under the first: one time, one data set.
   if (snap.time.step == last_indexed_step_) return;

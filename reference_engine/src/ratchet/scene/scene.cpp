@@ -41,7 +41,8 @@ std::int64_t step_count(const Reader& r, const std::string& field, double span, 
 
 SceneDef build_scene_with(const json& j, const std::string& source,
                           std::function<std::string(const std::string&)> origin_of) {
-  Reader r{source, std::move(origin_of)};
+  json effective = j;
+  Reader r{source, std::move(origin_of), &effective};
   r.object(j, "", {"name", "seed", "gravity", "time", "solver", "materials", "effects", "container",
                    "particles", "thermal", "outputs", "settle", "description"});
   SceneDef s;
@@ -50,12 +51,17 @@ SceneDef build_scene_with(const json& j, const std::string& source,
   if (s.name.empty()) r.fail("name", "a non-empty string", j.contains("name") ? &j.at("name") : nullptr);
   s.seed = static_cast<std::uint64_t>(r.integer(j, "", "seed", 1, 0, std::numeric_limits<long long>::max()));
   s.gravity = r.vec3(j, "", "gravity", s.gravity);
-  if (j.contains("effects")) read_effects(r, j.at("effects"), s.effects);
-  if (j.contains("solver")) read_solver(r, j.at("solver"), s.solver);
-  if (j.contains("materials")) read_materials(r, j.at("materials"), s.materials);
+  // A missing section of settings reads as an empty one: its defaults (the same as
+  // SceneDef's) go into the effective scene. A missing thermal, container or settle
+  // section means "none", and stays missing.
+  const json none = json::object();
+  auto section = [&](const char* key) -> const json& { return j.contains(key) ? j.at(key) : none; };
+  read_effects(r, section("effects"), s.effects);
+  read_solver(r, section("solver"), s.solver);
+  read_materials(r, section("materials"), s.materials);
   if (j.contains("thermal")) read_thermal(r, j.at("thermal"), s.thermal);
   if (j.contains("container")) read_container(r, j.at("container"), s.container);
-  if (j.contains("outputs")) read_outputs(r, j.at("outputs"), s);
+  read_outputs(r, section("outputs"), s);
   if (j.contains("settle")) read_settle(r, j.at("settle"), s);
   const json& time = r.required(j, "", "time", "an object {dt, duration}");
   r.object(time, "time", {"dt", "duration"});
@@ -71,6 +77,7 @@ SceneDef build_scene_with(const json& j, const std::string& source,
   } else {
     r.fail("time.duration", "a positive duration (or a thermal protocol with cycles to derive it from)");
   }
+  r.fill("time", "duration", s.duration);  // derived from the protocol: written out
   s.steps = step_count(r, span_field, s.duration, s.dt, span_value);
   if (s.settle.enabled) {
     // Times written in the scene count from the end of the settle stage; until it is
@@ -84,6 +91,7 @@ SceneDef build_scene_with(const json& j, const std::string& source,
   read_particles(r, r.required(j, "", "particles", "an object {generate and/or bodies}"), s);
   s.as_run = j;
   s.hash = fnv1a_hex(j.dump());
+  s.effective = std::move(effective);
   return s;
 }
 

@@ -136,6 +136,7 @@ struct OutputSettings {
   double pressure_window = 0.5;  // time units: block average of P(t) for the per-cycle peaks
   std::vector<int> vtk_cycles;  // VTK at the ends of heating and cooling of these cycles (thermal cycles only)
   int vtk_every = 0;            // > 0: VTK of the first state, every step k with k % vtk_every == 0, and the last
+  bool vtk_ascii = false;       // outputs.vtk_format "ascii": data arrays as text; "binary" (default): zlib-compressed
   int checkpoint_every = kDefaultCheckpointEvery;  // > 0: DIR/checkpoint.state every this many steps (run/checkpoint.hpp); 0: none
 };
 
@@ -173,6 +174,11 @@ struct SceneDef {
   std::vector<BodyDef> bodies;
   nlohmann::json as_run;     // the scene JSON as run: the file after --set overrides
   std::string hash;          // FNV-1a 64 of as_run.dump(), hex
+  // as_run with every default filled in: each field the reader took a default for, with
+  // that default (and time.duration when derived from the thermal protocol). Sections
+  // whose absence means "none" (container, thermal, settle, outputs.displacement,
+  // particles.generate.region) stay absent. Read back, it gives the same scene.
+  nlohmann::json effective;
 };
 
 // Thrown for any malformed scene: the message names the file, the field and what was

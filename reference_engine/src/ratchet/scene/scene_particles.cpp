@@ -55,6 +55,7 @@ void read_listed_bodies(const Reader& r, const json& list, SceneDef& s) {
     b.position = r.vec3(r.required(j, f, "position", "a point [x, y, z]"), f + ".position");
     const Quat q_input = j.contains("orientation") ? read_quaternion(r, j.at("orientation"), f + ".orientation")
                                                   : Quat::Identity();
+    r.fill(f, "orientation", json::array({1.0, 0.0, 0.0, 0.0}));
     b.velocity = r.vec3(j, f, "velocity", Vec3::Zero());
     b.angular_velocity = r.vec3(j, f, "angular_velocity", Vec3::Zero());
     b.fixed = r.boolean(j, f, "fixed", false);
@@ -179,6 +180,7 @@ void read_generated(const Reader& r, const json& gen, SceneDef& s, Rng& rng) {
     spec.radius_min = rr[0].get<double>();
     spec.radius_max = rr[1].get<double>();
   }
+  r.fill(p, "radius_range", json::array({spec.radius_min, spec.radius_max}));
   const double spacing = r.number(gen, p, "spacing", 2.5 * spec.radius_max, 2.3 * spec.radius_max, HUGE_VAL,
                                   false, false, "a lattice spacing >= 2.3 r_max (sites must not overlap)");
   // Sites first, then shapes and orientations: the sequence of draws is fixed by the seed.

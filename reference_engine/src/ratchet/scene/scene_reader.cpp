@@ -36,7 +36,24 @@ std::string closest_name(const std::string& unknown, std::initializer_list<const
   return best;
 }
 
+// A field's dotted path ("particles.bodies[3].velocity") as a JSON pointer
+// ("/particles/bodies/3/velocity"); scene keys hold no '/', '~', '.' or '['.
+json::json_pointer pointer_of(const std::string& field) {
+  std::string ptr;
+  for (char c : field) {
+    if (c == '.' || c == '[') ptr += '/';
+    else if (c != ']') ptr += c;
+  }
+  return json::json_pointer("/" + ptr);
+}
+
 }  // namespace
+
+void Reader::fill(const std::string& path, const std::string& key, const json& value) const {
+  if (effective == nullptr) return;
+  const json::json_pointer ptr = pointer_of(join(path, key));
+  if (!effective->contains(ptr)) (*effective)[ptr] = value;
+}
 
 void Reader::fail(const std::string& field, const std::string& expected, const json* got) const {
   std::string msg = where(field) + ": field '" + field + "': expected " + expected;
@@ -66,7 +83,10 @@ void Reader::object(const json& j, const std::string& path, std::initializer_lis
 
 double Reader::number(const json& j, const std::string& path, const std::string& key, double def, double lo,
                       double hi, bool lo_open, bool hi_open, const std::string& expected) const {
-  if (!j.contains(key)) return def;
+  if (!j.contains(key)) {
+    fill(path, key, def);
+    return def;
+  }
   const json& v = j.at(key);
   const std::string f = join(path, key);
   if (!v.is_number()) fail(f, expected, &v);
@@ -90,7 +110,10 @@ double Reader::finite(const json& j, const std::string& path, const std::string&
 
 long long Reader::integer(const json& j, const std::string& path, const std::string& key, long long def,
                           long long lo, long long hi) const {
-  if (!j.contains(key)) return def;
+  if (!j.contains(key)) {
+    fill(path, key, def);
+    return def;
+  }
   const json& v = j.at(key);
   const std::string expected = "an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]";
   if (!v.is_number_integer()) fail(join(path, key), expected, &v);
@@ -100,7 +123,10 @@ long long Reader::integer(const json& j, const std::string& path, const std::str
 }
 
 bool Reader::boolean(const json& j, const std::string& path, const std::string& key, bool def) const {
-  if (!j.contains(key)) return def;
+  if (!j.contains(key)) {
+    fill(path, key, def);
+    return def;
+  }
   const json& v = j.at(key);
   if (!v.is_boolean()) fail(join(path, key), "true or false", &v);
   return v.get<bool>();
@@ -108,7 +134,10 @@ bool Reader::boolean(const json& j, const std::string& path, const std::string& 
 
 std::string Reader::string(const json& j, const std::string& path, const std::string& key,
                            const std::string& def) const {
-  if (!j.contains(key)) return def;
+  if (!j.contains(key)) {
+    fill(path, key, def);
+    return def;
+  }
   const json& v = j.at(key);
   if (!v.is_string()) fail(join(path, key), "a string", &v);
   return v.get<std::string>();
@@ -126,7 +155,9 @@ Vec3 Reader::vec3(const json& v, const std::string& f) const {
 }
 
 Vec3 Reader::vec3(const json& j, const std::string& path, const std::string& key, const Vec3& def) const {
-  return j.contains(key) ? vec3(j.at(key), join(path, key)) : def;
+  if (j.contains(key)) return vec3(j.at(key), join(path, key));
+  fill(path, key, json::array({def.x(), def.y(), def.z()}));
+  return def;
 }
 
 const json& Reader::required(const json& j, const std::string& path, const std::string& key,

@@ -21,6 +21,9 @@ struct Reader {
   std::string source;
   // Where the value of a field came from; empty: always `source`.
   std::function<std::string(const std::string& field)> origin_of;
+  // The effective scene (SceneDef::effective): every field read with a default that the
+  // scene lacks is written into it with that default. Null: not recorded.
+  json* effective = nullptr;
 
   std::string where(const std::string& field) const { return origin_of ? origin_of(field) : source; }
 
@@ -34,7 +37,11 @@ struct Reader {
   // closest known name, if one is close enough to be a typo).
   void object(const json& j, const std::string& path, std::initializer_list<const char*> allowed) const;
 
-  // The field path.key, or def when it is absent; each checks the value's type and range.
+  // Records `value` as the effective value of path.key when the scene lacks the field.
+  void fill(const std::string& path, const std::string& key, const json& value) const;
+
+  // The field path.key, or def when it is absent (recorded with fill); each checks the
+  // value's type and range.
   double number(const json& j, const std::string& path, const std::string& key, double def, double lo, double hi,
                 bool lo_open, bool hi_open, const std::string& expected) const;
   double positive(const json& j, const std::string& path, const std::string& key, double def) const;

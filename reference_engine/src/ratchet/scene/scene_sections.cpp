@@ -35,6 +35,7 @@ void read_solver(const Reader& r, const json& j, SolverSettings& s) {
     else if (c == "velocity") s.criterion = Criterion::Velocity;
     else r.fail(p + ".criterion", "\"impulse\" or \"velocity\"", &c);
   }
+  r.fill(p, "criterion", s.criterion == Criterion::Velocity ? "velocity" : "impulse");
   s.max_iterations = static_cast<int>(r.integer(j, p, "max_iterations", s.max_iterations, 1, 100000000));
   if (j.contains("acceleration")) {
     const json& a = j.at("acceleration");
@@ -42,6 +43,7 @@ void read_solver(const Reader& r, const json& j, SolverSettings& s) {
     else if (a == "anderson") s.acceleration = Acceleration::Anderson;
     else r.fail(p + ".acceleration", "\"none\" or \"anderson\"", &a);
   }
+  r.fill(p, "acceleration", s.acceleration == Acceleration::Anderson ? "anderson" : "none");
   s.anderson_depth = static_cast<int>(r.integer(j, p, "anderson_depth", s.anderson_depth, 1, kMaxAndersonDepth));
   s.theta = r.number(j, p, "theta", s.theta, 0.5, 1.0, false, false, "a number in [0.5, 1]");
   s.p_gap = r.number(j, p, "p_gap", s.p_gap, 0.0, 1.0, true, false, "a number in (0, 1]");
@@ -159,8 +161,8 @@ std::vector<std::pair<int, int>> read_windows(const Reader& r, const json& j, co
 void read_outputs(const Reader& r, const json& j, SceneDef& s) {
   const std::string p = "outputs";
   r.object(j, p, {"timeseries_every", "bodies_every", "volume", "segment_forces", "cycles", "steady_cycles",
-                  "displacement", "wall_profile_bins", "settled_profile_time", "vtk_cycles", "vtk_every", "checkpoint_every",
-                  "pressure_window"});
+                  "displacement", "wall_profile_bins", "settled_profile_time", "vtk_cycles", "vtk_every", "vtk_format",
+                  "checkpoint_every", "pressure_window"});
   OutputSettings& o = s.outputs;
   o.timeseries_every = static_cast<int>(r.integer(j, p, "timeseries_every", 1, 1, 1 << 30));
   o.bodies_every = static_cast<int>(r.integer(j, p, "bodies_every", 0, 0, 1 << 30));
@@ -180,6 +182,9 @@ void read_outputs(const Reader& r, const json& j, SceneDef& s) {
       r.fail(p + ".steady_cycles", "[first, last] cycle indices with 0 <= first <= last", &w);
     o.steady_first = w[0].get<int>();
     o.steady_last = w[1].get<int>();
+  } else if (s.thermal.enabled && s.thermal.cycles > 0) {
+    // The default the pressure peaks use (run/pressure_peaks.cpp): the second half.
+    r.fill(p, "steady_cycles", json::array({s.thermal.cycles / 2, s.thermal.cycles - 1}));
   }
   if (j.contains("displacement")) {
     const std::string f = p + ".displacement";
@@ -204,7 +209,11 @@ void read_outputs(const Reader& r, const json& j, SceneDef& s) {
              "outputs.vtk_every writes VTK every N steps in any scene)",
              &v);
   }
+  r.fill(p, "vtk_cycles", json::array());
   o.vtk_every = static_cast<int>(r.integer(j, p, "vtk_every", 0, 0, 1 << 30));
+  const std::string format = r.string(j, p, "vtk_format", "binary");
+  if (format != "binary" && format != "ascii") r.fail(p + ".vtk_format", "\"binary\" or \"ascii\"", &j.at("vtk_format"));
+  o.vtk_ascii = format == "ascii";
   o.checkpoint_every = static_cast<int>(r.integer(j, p, "checkpoint_every", kDefaultCheckpointEvery, 0, 1 << 30));
 }
 
