@@ -13,9 +13,11 @@ Modules:
           campaign's stored runs (scripts/paper-repro, the report's section;
           docs/paper-reproduction.md)
 - run_plot: the command line of scripts/plot-run (two figures and a summary of one run folder)
-- run_folder: a run folder read for plotting (timeseries, cycles, run.json, thermal phases)
 - run_figures: the results and solver-diagnostics figures of one run folder
 - sweep_plot: P_max and W_rms of sweep folders against the swept parameter (scripts/plot-sweep)
+
+The run folder itself (timeseries, cycles, run.json, thermal phases) is read by the
+package's ratchet.run_folder (python/ratchet), found through common.paths.
 
 Run with Debian's interpreter, /usr/bin/python3.
 """

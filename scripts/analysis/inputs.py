@@ -28,6 +28,9 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from common import paths  # noqa: F401  (puts the package `ratchet` on sys.path)
+from ratchet.csv_columns import read_csv_columns  # noqa: E402
+
 ANGLE = "container.opening_angle_deg"
 ALPHA_C = "thermal.alpha_c"
 ALPHA_P = "thermal.alpha_p"
@@ -193,23 +196,6 @@ def run_dir(sweep_folder: Path, run: int) -> Path | None:
             if candidate.is_dir() and candidate.name.isdigit() and int(candidate.name) == int(run):
                 return candidate
     return None
-
-
-def read_csv_columns(path: Path, wanted: tuple[str, ...]) -> pd.DataFrame | None:
-    """The wanted columns that exist in the CSV (others skipped); None if unreadable."""
-    if not path.is_file():
-        return None
-    try:
-        header = pd.read_csv(path, nrows=0).columns
-        use = [c for c in wanted if c in header]
-        if not use:
-            return pd.DataFrame()
-        frame = pd.read_csv(path, usecols=use)
-    except (OSError, ValueError, pd.errors.ParserError, pd.errors.EmptyDataError):
-        return None
-    for column in frame.columns:
-        frame[column] = pd.to_numeric(frame[column], errors="coerce")
-    return frame
 
 
 def read_run_json(folder: Path | None) -> dict | None:

@@ -1,4 +1,4 @@
-"""The two figures of one run folder (scripts/plot-run; the run read by .run_folder).
+"""The two figures of one run folder (scripts/plot-run; the run read by ratchet.run_folder).
 
 - results_figure: wall pressure against time with each cycle's peak and P_max, and the
   bed volume V/V0, from the start of cycling on; the thermal phases (heating, holds,
@@ -28,9 +28,10 @@ from matplotlib.figure import Figure  # noqa: E402
 from matplotlib.patches import Patch  # noqa: E402
 
 from .plots import MAX_LINE_POINTS, _thin  # noqa: E402
-from .run_folder import (DEFAULT_TOLERANCE, PHASES, THERMAL_DEFAULTS, TIME_COLUMNS,  # noqa: E402
-                         Phase, Run, block_means, cycle_spans, cycle_stage_times, cycling_start,
-                         thermal_phases)
+from common import paths  # noqa: F401,E402  (puts the package `ratchet` on sys.path)
+from ratchet.run_folder import (DEFAULT_TOLERANCE, PHASES, THERMAL_DEFAULTS, TIME_COLUMNS,  # noqa: E402
+                                Phase, Run, block_means, cycle_spans, cycle_stage_times, cycling_start,
+                                thermal_phases)
 
 #: Axis labels in the scene's scaled units, as docs/method.md states them; each panel's
 #: title says what the quantity is.

@@ -17,10 +17,12 @@ import sys
 from pathlib import Path
 from typing import Sequence
 
+from common import paths  # noqa: F401  (puts the package `ratchet` on sys.path)
 from common.fsutil import figure_format, save_figure_atomic
 
+from ratchet.run_folder import Run, RunInputError, load_run, thermal_phases
+
 from .run_figures import results_figure, solver_figure
-from .run_folder import Run, RunInputError, load_run, thermal_phases
 
 PROG = "plot-run"
 #: Default figure name in RUN_DIR; the solver figure adds SOLVER_SUFFIX to the stem.

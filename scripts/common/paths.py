@@ -1,25 +1,25 @@
-"""Where things are: the repository root, the build folder and the engine binary."""
+"""Where things are: the repository root, the build folder and the engine binary.
+
+The rule itself is the Python package's (python/ratchet/locate.py); importing this
+module also puts this checkout's python/ first on sys.path, so the harness uses the
+package of its own checkout, not one that a .pth file of another checkout points at.
+"""
 
 from __future__ import annotations
 
-import os
+import sys
 from pathlib import Path
 
 #: scripts/
 SCRIPTS_DIR = Path(__file__).resolve().parent.parent
 #: The repository root (the folder that holds scripts/).
 REPO_ROOT = SCRIPTS_DIR.parent
+#: The Python package's folder (python/ratchet is the package `ratchet`).
+PYTHON_DIR = REPO_ROOT / "python"
 
+if str(PYTHON_DIR) not in sys.path:
+    sys.path.insert(0, str(PYTHON_DIR))
 
-def build_dir() -> Path:
-    """$RATCHET_BUILD_DIR when set and not empty, else build; a relative path is taken
-    from the repository root (as scripts/build, test and validate take it)."""
-    folder = Path(os.environ.get("RATCHET_BUILD_DIR") or "build")
-    return folder if folder.is_absolute() else REPO_ROOT / folder
+from ratchet.locate import build_dir, engine_binary  # noqa: E402
 
-
-def engine_binary() -> Path:
-    """$RATCHET_BIN when set and not empty, else <build_dir()>/reference_engine/ratchet
-    (whether it exists is for the caller to check)."""
-    binary = os.environ.get("RATCHET_BIN")
-    return Path(binary) if binary else build_dir() / "reference_engine" / "ratchet"
+__all__ = ["SCRIPTS_DIR", "REPO_ROOT", "PYTHON_DIR", "build_dir", "engine_binary"]

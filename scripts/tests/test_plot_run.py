@@ -104,7 +104,7 @@ def test_both_figures_and_summary_agree_with_the_run(run_dir, tmp_path):
 
 
 def test_phases_follow_the_scene_and_the_temperature(run_dir):
-    from analysis import run_folder
+    from ratchet import run_folder
 
     run = run_folder.load_run(run_dir)
     phases = run_folder.thermal_phases(run)
@@ -127,7 +127,8 @@ def test_phases_follow_the_scene_and_the_temperature(run_dir):
 
 
 def _figures(run_dir):
-    from analysis import run_figures, run_folder
+    from analysis import run_figures
+    from ratchet import run_folder
 
     run = run_folder.load_run(run_dir)
     return run, run_figures.results_figure(run), run_figures.solver_figure(run)
@@ -154,7 +155,8 @@ def test_axes_carry_the_scaled_units_and_the_title_names_the_scene(run_dir):
 
 
 def test_results_start_at_cycling_with_peaks_phases_and_cycle_numbers(run_dir):
-    from analysis import run_figures, run_folder
+    from analysis import run_figures
+    from ratchet import run_folder
 
     run, results, _ = _figures(run_dir)
     start = run_folder.thermal_phases(run)[0].start

@@ -1,5 +1,6 @@
-"""A run folder of `ratchet run` read for plotting (scripts/plot-run): the timeseries,
-cycles.csv and run.json (docs/output-format.md), and the thermal phases of its cycles.
+"""A run folder of `ratchet run` as the harness reads it (scripts/plot-run, and
+ratchet.load_run): the timeseries, cycles.csv and run.json (docs/output-format.md), and
+the thermal phases of its cycles.
 
 A run is complete only when run.json says "status": "completed". Otherwise what is there
 is read and labelled INCOMPLETE: timeseries.csv.partial (the rows of an unfinished run)
@@ -17,7 +18,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from .inputs import read_csv_columns, read_cycles
+from .csv_columns import read_csv_columns
 
 TIMESERIES = "timeseries.csv"
 # The engine's name for a CSV still being written; read here, never written (single
@@ -166,8 +167,9 @@ def _cap(run: dict) -> int:
     return int(solver.get("max_iterations", DEFAULT_MAX_ITERATIONS))
 
 
-def load_run(folder: str | os.PathLike) -> Run:
-    """Reads a run folder; raises RunInputError naming the file (and column) at fault."""
+def load_run(folder: str | os.PathLike, all_columns: bool = False) -> Run:
+    """Reads a run folder; raises RunInputError naming the file (and column) at fault.
+    The timeseries has the columns the figures use, or with all_columns every column."""
     folder = Path(folder)
     if not folder.is_dir():
         raise RunInputError(f"{folder}: no such folder")
@@ -192,7 +194,7 @@ def load_run(folder: str | os.PathLike) -> Run:
             status = f"INCOMPLETE ({why}): {final.name} may be from an earlier run"
         else:
             raise RunInputError(f"{final}: not found (nor {partial.name})")
-    ts = _checked(read_csv_columns(source, TS_REQUIRED + TS_OPTIONAL), source, TS_REQUIRED)
+    ts = _checked(read_csv_columns(source, None if all_columns else TS_REQUIRED + TS_OPTIONAL), source, TS_REQUIRED)
     if source == partial and len(ts) and not _ends_with_newline(source):
         ts = ts.iloc[:-1]  # the last line is still being written
     if ts.empty:
@@ -202,7 +204,7 @@ def load_run(folder: str | os.PathLike) -> Run:
     cycles_path = folder / "cycles.csv"
     if cycles_path.is_file():
         if complete:
-            cycles = _checked(read_cycles(folder), cycles_path, CYCLES_REQUIRED)
+            cycles = _checked(read_csv_columns(cycles_path, CYCLES_REQUIRED), cycles_path, CYCLES_REQUIRED)
         else:
             # cycles.csv is written at the end of a run, so it is not this one's.
             notes.append("cycles.csv not used: the run is incomplete")
