@@ -171,8 +171,12 @@ def test_a_stopped_plan_goes_on_from_the_checkpoints(done, tmp_path):
     _, err = proc.communicate(timeout=120)
     assert proc.returncode == 3, err
     assert "run the same command again" in err
-    assert any(not (d / "run.json").is_file() or json.loads((d / "run.json").read_text())["status"] != "completed"
-               for d in (out / "runs").iterdir() if d.is_dir())
+    # Stopped cleanly, at its next step and with a checkpoint of it: one SIGTERM, not two
+    # (a second one ends the engine at once).
+    stopped = [d for d in (out / "runs").iterdir() if d.is_dir() and (d / "run.json").is_file()
+               and json.loads((d / "run.json").read_text())["status"] == "interrupted"]
+    assert stopped, [p.name for p in (out / "runs").iterdir()]
+    assert all((d / "checkpoint.state").is_file() for d in stopped)
     r = call(plan, "--out", out)
     assert r.returncode == 0, r.stderr
     for name in ("rigid", "soft"):
@@ -188,3 +192,39 @@ def test_a_bad_budget_stops_before_any_work(tmp_path):
     assert r.returncode == 2
     assert "--budget: expected a positive number of hours, got 0.0" in r.stderr
     assert not (tmp_path / "out").exists()
+
+
+def test_a_run_gets_one_sigterm_however_it_is_stopped(tmp_path):
+    """The engine takes a second SIGTERM as "stop now" and ends without its checkpoint,
+    so a run whose step outlasts the tool's poll (a rigid step of the paper bed takes
+    minutes) must not get the signal's forward and the deadline's SIGTERM both. A stand-in
+    process counts the SIGTERMs it gets over 3 s."""
+    import importlib.machinery
+    import importlib.util
+    import threading
+    loader = importlib.machinery.SourceFileLoader("compare_settings", str(TOOL))
+    spec = importlib.util.spec_from_loader("compare_settings", loader)
+    tool = importlib.util.module_from_spec(spec)
+    loader.exec_module(tool)
+    count = tmp_path / "count"
+    child = ("import signal, time, pathlib\n"
+             "n = [0]\n"
+             "def on(*_):\n"
+             "    n[0] += 1\n"
+             f"    pathlib.Path({str(count)!r}).write_text(str(n[0]))\n"
+             "signal.signal(signal.SIGTERM, on)\n"
+             f"pathlib.Path({str(count)!r}).write_text('0')\n"
+             "end = time.monotonic() + 3\n"
+             "while time.monotonic() < end: time.sleep(0.01)\n")
+    stop = tool.Stopper(None)
+    result = {}
+    worker = threading.Thread(target=lambda: result.update(
+        rc=tool.execute(["/usr/bin/python3", "-c", child], tmp_path / "log", stop)))
+    worker.start()
+    deadline = time.monotonic() + 30
+    while not count.is_file() and time.monotonic() < deadline:
+        time.sleep(0.01)
+    stop.on_signal()  # as SIGINT/SIGTERM to the tool; the poll then finds the stop due too
+    worker.join(timeout=30)
+    assert result["rc"] == tool.STOPPED
+    assert count.read_text() == "1"
