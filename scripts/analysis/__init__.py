@@ -17,7 +17,7 @@ Modules:
 - sweep_plot: P_max and W_rms of sweep folders against the swept parameter (scripts/plot-sweep)
 
 The run folder itself (timeseries, cycles, run.json, thermal phases) is read by the
-package's ratchet.run_folder (python/ratchet), found through common.paths.
+package's ratchet.run_folder (reference_engine/python/ratchet), found through common.paths.
 
 Run with Debian's interpreter, /usr/bin/python3.
 """

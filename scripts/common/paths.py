@@ -1,7 +1,7 @@
 """Where things are: the repository root, the build folder and the engine binary.
 
-The rule itself is the Python package's (python/ratchet/locate.py); importing this
-module also puts this checkout's python/ first on sys.path, so the harness uses the
+The rule itself is the Python package's (reference_engine/python/ratchet/locate.py); importing this
+module also puts this checkout's reference_engine/python/ first on sys.path, so the harness uses the
 package of its own checkout, not one that a .pth file of another checkout points at.
 """
 
@@ -14,8 +14,8 @@ from pathlib import Path
 SCRIPTS_DIR = Path(__file__).resolve().parent.parent
 #: The repository root (the folder that holds scripts/).
 REPO_ROOT = SCRIPTS_DIR.parent
-#: The Python package's folder (python/ratchet is the package `ratchet`).
-PYTHON_DIR = REPO_ROOT / "python"
+#: The Python package's folder (reference_engine/python/ratchet is the package `ratchet`).
+PYTHON_DIR = REPO_ROOT / "reference_engine" / "python"
 
 if str(PYTHON_DIR) not in sys.path:
     sys.path.insert(0, str(PYTHON_DIR))

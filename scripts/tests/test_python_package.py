@@ -1,4 +1,4 @@
-"""The Python package `ratchet` (python/ratchet, docs/python.md): importable after the
+"""The Python package `ratchet` (reference_engine/python/ratchet, docs/python.md): importable after the
 build, a world stepped from Python equal bit for bit to `ratchet run`, the state's views,
 the contacts, the engine's scene errors, run/sweep/load_run, and the docs' example.
 
@@ -21,7 +21,7 @@ import pytest
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 from common.paths import PYTHON_DIR, REPO_ROOT, build_dir, engine_binary  # noqa: E402
 
-import ratchet  # noqa: E402  (this checkout's: common.paths put python/ first)
+import ratchet  # noqa: E402  (this checkout's: common.paths put reference_engine/python/ first)
 
 PYTHON = "/usr/bin/python3"
 RATCHET = engine_binary()

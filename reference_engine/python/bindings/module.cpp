@@ -1,5 +1,5 @@
 // ratchet._engine: the engine's World for Python (docs/python.md). The package's
-// python/ratchet/world.py wraps it; use that, not this module directly.
+// reference_engine/python/ratchet/world.py wraps it; use that, not this module directly.
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 

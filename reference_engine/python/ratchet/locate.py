@@ -11,7 +11,7 @@ import os
 from pathlib import Path
 
 #: The repository root (the folder that holds python/ and scripts/).
-REPO_ROOT = Path(__file__).resolve().parent.parent.parent
+REPO_ROOT = Path(__file__).resolve().parents[3]
 
 
 def build_dir() -> Path:
