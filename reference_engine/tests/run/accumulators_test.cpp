@@ -10,6 +10,7 @@
 
 #include "ratchet/run/observers.hpp"
 #include "ratchet/run/runner.hpp"
+#include "support/test_files.hpp"
 
 namespace ratchet {
 namespace {
@@ -51,18 +52,7 @@ SceneDef two_short_cycles() {
                      "short.json");
 }
 
-std::vector<std::string> lines_of(const fs::path& p) {
-  std::ifstream in(p);
-  std::vector<std::string> out;
-  for (std::string l; std::getline(in, l);) out.push_back(l);
-  return out;
-}
-
-fs::path scratch(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("ratchet_accumulators_" + name);
-  fs::remove_all(d);
-  return d;
-}
+using test::lines_of;
 
 TEST(Accumulators, TheEnginesComeFirstInColumnOrderThenTheRegistered) {
   ASSERT_TRUE(kRegistered);
@@ -73,7 +63,7 @@ TEST(Accumulators, TheEnginesComeFirstInColumnOrderThenTheRegistered) {
 }
 
 TEST(Accumulators, ARegisteredObservableAppearsInCyclesCsv) {
-  const fs::path d = scratch("cycles");
+  const fs::path d = test::fresh_dir("ratchet_accumulators");
   World world(two_short_cycles());
   RunOptions opt;
   opt.out_dir = d.string();
@@ -99,8 +89,7 @@ TEST(Accumulators, ARegisteredObservableKeepsItsRecordInACheckpoint) {
   const json saved = before.save();
   ASSERT_TRUE(saved.contains("steps_per_cycle"));
   EXPECT_EQ(saved.at("steps_per_cycle"), json::array({30, 5}));
-  const fs::path d = scratch("resumed");
-  fs::create_directories(d);
+  const fs::path d = test::fresh_dir("ratchet_accumulators");
   RunObservers after(world, d.string(), saved);
   while (world.state().step < world.scene().steps) {
     world.step();
