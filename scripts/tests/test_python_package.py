@@ -169,6 +169,8 @@ def test_the_state_arrays_are_read_only_views_that_follow_the_world():
     world.step(20)
     assert not np.array_equal(positions, before)  # the bodies fall: the same array moved
     np.testing.assert_array_equal(positions, world.positions)
+    # rtol 1e-12: the engine renormalises each quaternion every step; what is left is the
+    # norm's own rounding, about 1e-16.
     np.testing.assert_allclose(np.linalg.norm(orientations, axis=1), 1.0, rtol=1e-12)
     # The contacts are a copy, taken now.
     assert not np.shares_memory(world.contacts().point, world.contacts().point)
@@ -185,10 +187,15 @@ def test_the_contacts_carry_the_step_s_forces():
     assert on_walls.any() and (~on_walls).any()
     assert set(c.wall[on_walls]) <= set(range(SCENE["container"]["segments"] + 1))
     assert (c.wall[~on_walls] == -1).all() and (c.a[~on_walls] < c.b[~on_walls]).all()
+    # rtol 1e-12: unit normals, to the rounding of a normalisation (about 1e-16).
     np.testing.assert_allclose(np.linalg.norm(c.normal, axis=1), 1.0, rtol=1e-12)
-    # The wall force of the step is the normal impulses on the walls over h.
+    # The wall force of the step is the normal impulses on the walls over h; rtol 1e-12:
+    # the same numbers summed in another order.
     assert np.isclose(c.impulse[on_walls, 0].sum() / world.dt, stats["wall_force_total"], rtol=1e-12)
     # force is the impulse in the world frame over h: its normal part is impulse_n / h.
+    # rtol 1e-9 (atol 1e-12 for the open contacts' zeros): the force is rebuilt from the
+    # local impulse through the contact frame, a few roundings amplified where the
+    # tangential part dominates the normal one (mu = 0.5).
     normal_part = np.einsum("ij,ij->i", c.force, c.normal)
     np.testing.assert_allclose(normal_part, c.impulse[:, 0] / world.dt, rtol=1e-9, atol=1e-12)
 
