@@ -6,6 +6,7 @@
 #include <iterator>
 
 #include "ratchet/io/atomic_file.hpp"
+#include "ratchet/io/json_file.hpp"
 
 namespace ratchet {
 
@@ -303,7 +304,7 @@ void write_state_file(const std::string& path, const StateFile& f) { write_file_
 
 StateFile read_state_file(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw StateFileError(path + ": cannot open the state file");
+  if (!in) throw StateFileError(path + ": cannot open the state file (" + unreadable_reason(path) + ")");
   const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   if (in.bad()) throw StateFileError(path + ": read error");
   return decode_state_file(bytes, path);

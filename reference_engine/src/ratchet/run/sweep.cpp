@@ -15,6 +15,7 @@
 #endif
 
 #include "ratchet/io/atomic_file.hpp"
+#include "ratchet/io/json_file.hpp"
 #include "ratchet/io/state_file.hpp"
 #include "ratchet/run/checkpoint.hpp"
 #include "ratchet/run/packing.hpp"
@@ -43,10 +44,13 @@ void set_path(json& j, const std::string& path, const json& value, const std::st
 
 SweepPlan load_sweep(const std::string& path, const std::string& out_dir,
                      const std::vector<std::string>& overrides) {
-  std::ifstream in(path);
-  if (!in) throw SceneError(path + ": cannot open the sweep file");
-  const json j = json::parse(in, nullptr, false, true);
-  if (j.is_discarded() || !j.is_object()) throw SceneError(path + ": not a valid JSON object");
+  json j;
+  try {
+    j = read_json_file(path, "sweep file");
+  } catch (const JsonFileError& e) {
+    throw SceneError(e.what());
+  }
+  if (!j.is_object()) throw SceneError(path + ": not a JSON object (a sweep file is {\"scene\": ..., \"grid\" or \"points\": ...})");
   for (auto it = j.begin(); it != j.end(); ++it)
     if (it.key() != "scene" && it.key() != "grid" && it.key() != "points" && it.key() != "realizations" &&
         it.key() != "seeds" && it.key() != "set" && it.key() != "description")
@@ -62,10 +66,11 @@ SweepPlan load_sweep(const std::string& path, const std::string& out_dir,
   std::string scene_source = path;
   if (j.at("scene").is_string()) {
     const fs::path p = fs::path(path).parent_path() / j.at("scene").get<std::string>();
-    std::ifstream sin(p);
-    if (!sin) fail(path, "scene", "a readable scene file (" + p.string() + " cannot be opened)");
-    base = json::parse(sin, nullptr, false, true);
-    if (base.is_discarded()) throw SceneError(p.string() + ": not valid JSON");
+    try {
+      base = read_json_file(p.string(), "scene file");
+    } catch (const JsonFileError& e) {
+      fail(path, "scene", std::string("a readable scene file in JSON (") + e.what() + ")");
+    }
     scene_source = p.string();
   } else if (j.at("scene").is_object()) {
     base = j.at("scene");

@@ -9,6 +9,7 @@
 #include <limits>
 #include <utility>
 
+#include "ratchet/io/json_file.hpp"
 #include "ratchet/scene/scene_detail.hpp"
 
 namespace ratchet {
@@ -100,19 +101,11 @@ SceneDef build_scene_with(const json& j, const std::string& source,
 SceneDef build_scene(const json& j, const std::string& source) { return build_scene_with(j, source, nullptr); }
 
 SceneDef load_scene(const std::string& path, const std::vector<std::string>& overrides) {
-  std::ifstream in(path);
-  if (!in) throw SceneError(path + ": cannot open the scene file");
-  json j = json::parse(in, nullptr, false, /*ignore_comments=*/true);
-  if (j.is_discarded()) {
-    // Parse again with exceptions on to report where the syntax breaks.
-    std::ifstream again(path);
-    try {
-      const json unused = json::parse(again, nullptr, true, true);
-      (void)unused;
-    } catch (const json::exception& e) {  // parse_error, or out_of_range for a number beyond a double
-      throw SceneError(path + ": not valid JSON: " + e.what());
-    }
-    throw SceneError(path + ": not valid JSON");
+  json j;
+  try {
+    j = read_json_file(path, "scene file");
+  } catch (const JsonFileError& e) {
+    throw SceneError(e.what());
   }
   json file = j;
   for (const std::string& o : overrides) apply_override(j, o, path);
