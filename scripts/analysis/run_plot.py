@@ -39,9 +39,9 @@ def summary_line(run: Run, results: Path, solver: Path) -> str:
     if run.cap is None:
         capped = "capped n/a (no run.json)"
     else:
-        capped = f"{run.capped} capped (sweeps >= {run.cap} on {len(run.ts)} rows"
+        capped = f"{run.capped} capped (of the {len(run.ts)} timeseries rows, those at the cap of {run.cap} sweeps"
         unconverged = ((run.run or {}).get("counters") or {}).get("unconverged_steps")
-        capped += f"; run.json: {unconverged} unconverged)" if unconverged is not None else ")"
+        capped += f"; run.json: {unconverged} steps unconverged)" if unconverged is not None else ")"
     p_max = "n/a" if run.p_max is None else f"{run.p_max:.4g}"
     state = "completed" if run.complete else "INCOMPLETE"
     return (f"{PROG}: {run.name} {state}: {run.steps} steps, {capped}, "

@@ -28,7 +28,7 @@ SCENE = REPO_ROOT / "validation" / "sweeps" / "bed_quick.json"
 # 20 polyhedra, one thermal cycle, a row per step: about 1 s of CPU.
 SMALL = ["--set", "particles.generate.count=20", "--set", "thermal.cycles=1",
          "--set", "outputs.steady_cycles=[0,0]", "--set", "solver.threads=1"]
-SUMMARY = re.compile(r"^plot-run: \S+ (completed|INCOMPLETE): (\d+) steps, (?:(\d+) capped \(sweeps >= (\d+)"
+SUMMARY = re.compile(r"^plot-run: \S+ (completed|INCOMPLETE): (\d+) steps, (?:(\d+) capped \(of the \d+ timeseries rows, those at the cap of (\d+) sweeps"
                      r"|capped n/a).*max residual (\S+), P_max (\S+) -> (.+) and (.+)$")
 
 pytestmark = pytest.mark.skipif(not RATCHET.is_file(), reason=f"engine not built ({RATCHET})")
