@@ -280,12 +280,23 @@ def test_run_drives_the_program_and_a_scene_dict_is_kept_in_the_folder(tmp_path)
     assert Path(r.info["scene_file"]).name == "scene.json"
 
 
-def test_sweep_drives_the_program(tmp_path):
+#: Two short runs (the pour only) of SCENE: a sweep in about a second.
+SWEEP = {"scene": SCENE, "set": {"thermal.cycles": 0, "time.duration": 1.2},
+         "grid": {"materials.friction": [0.3, 0.6]}}
+
+
+@pytest.fixture(scope="module")
+def file_sweep(tmp_path_factory):
+    """SWEEP as a file and ratchet.sweep of it."""
     _need_program()
-    sweep_file = tmp_path / "sweep.json"
-    sweep_file.write_text(json.dumps({"scene": SCENE, "set": {"thermal.cycles": 0, "time.duration": 1.2},
-                                      "grid": {"materials.friction": [0.3, 0.6]}}), encoding="utf-8")
-    s = ratchet.sweep(sweep_file, tmp_path / "sweep", jobs=1)
+    folder = tmp_path_factory.mktemp("file_sweep")
+    sweep_file = folder / "sweep.json"
+    sweep_file.write_text(json.dumps(SWEEP), encoding="utf-8")
+    return ratchet.sweep(sweep_file, folder / "sweep", jobs=1)
+
+
+def test_sweep_drives_the_program(file_sweep):
+    s = file_sweep
     assert s.summary["run"].tolist() == [0, 1]
     assert s.summary["materials.friction"].tolist() == [0.3, 0.6]
     assert s.run(1).info["scene"]["materials"]["friction"] == 0.6
@@ -299,6 +310,42 @@ def test_the_harness_finds_the_program_through_the_package(monkeypatch, tmp_path
     monkeypatch.setenv("RATCHET_BIN", str(tmp_path / "r"))
     with pytest.raises(FileNotFoundError, match=re.escape(str(tmp_path / "r"))):
         ratchet.run(SCENE, tmp_path / "out")
+
+
+def test_program_is_the_given_one_else_the_build_s(monkeypatch, tmp_path):
+    _need_program()
+    assert ratchet.program() == engine_binary()
+    assert ratchet.program("") == engine_binary()  # empty: not given (an unset option)
+    assert ratchet.program(str(RATCHET)) == RATCHET
+    with pytest.raises(ratchet.ProgramNotFound, match=r"/none is not built or not executable \(as given") as raised:
+        ratchet.program(tmp_path / "none")
+    assert raised.value.filename == str(tmp_path / "none")
+    plain = tmp_path / "plain"
+    plain.write_text("#!/bin/sh\n")  # there, but not executable
+    with pytest.raises(FileNotFoundError, match="plain is not built or not executable"):
+        ratchet.program(plain)
+    monkeypatch.setenv("RATCHET_BIN", str(tmp_path / "r"))
+    with pytest.raises(ratchet.ProgramNotFound, match=r"from \$RATCHET_BIN"):
+        ratchet.program()
+
+
+def test_command_puts_the_settings_after_the_arguments():
+    _need_program()
+    assert ratchet.command("run", Path("a.json"), "--out", "o", settings={"solver.p_gap": 0.05},
+                           thermal__cycles=0) == \
+        [str(RATCHET), "run", "a.json", "--out", "o", "--set", "solver.p_gap=0.05", "--set", "thermal.cycles=0"]
+
+
+def test_call_raises_the_program_s_error_with_its_exit_status(tmp_path):
+    _need_program()
+    ratchet.call(ratchet.command("--version"))  # exit 0: returns
+    bad = tmp_path / "bad.json"
+    bad.write_text(json.dumps({**SCENE, "solver": {"p_gap": -1}}), encoding="utf-8")
+    with pytest.raises(ratchet.SceneError, match=r"bad\.json: field 'solver\.p_gap'.*\(ratchet run: exit status 2\)$") \
+            as raised:
+        ratchet.call(ratchet.command("run", bad, "--out", tmp_path / "out"))
+    assert raised.value.returncode == 2 and "ratchet: error:" not in str(raised.value)
+    assert not (tmp_path / "out").exists()
 
 
 # ------------------------------------------------------------ docs example --
