@@ -302,6 +302,46 @@ def test_sweep_drives_the_program(file_sweep):
     assert s.run(1).info["scene"]["materials"]["friction"] == 0.6
 
 
+def _same_runs(a: ratchet.SweepData, b: ratchet.SweepData):
+    # Everything but the paths and clocks: the runs' results, bit for bit.
+    for run_id in a.summary["run"]:
+        x, y = a.run(run_id), b.run(run_id)
+        assert x.info["scene_hash"] == y.info["scene_hash"]
+        assert x.summary == y.summary
+        pd.testing.assert_frame_equal(x.timeseries.filter(regex="^(?!time_)"), y.timeseries.filter(regex="^(?!time_)"))
+
+
+def test_sweep_takes_a_dict_written_atomically_to_its_folder(file_sweep, tmp_path):
+    s = ratchet.sweep(SWEEP, tmp_path / "sweep", jobs=1)
+    written = tmp_path / "sweep" / "sweep.json"
+    assert json.loads(written.read_text(encoding="utf-8")) == SWEEP
+    assert not list((tmp_path / "sweep").glob(".*.partial"))  # no temporary file left
+    assert s.summary["materials.friction"].tolist() == [0.3, 0.6]
+    assert s.run(0).info["scene_file"] == f"{written} run 0"  # the runs name a file that exists
+    _same_runs(s, file_sweep)
+
+
+def test_a_sweep_dict_s_relative_scene_is_taken_from_the_current_folder(file_sweep, tmp_path, monkeypatch):
+    _need_program()
+    (tmp_path / "scenes").mkdir()
+    (tmp_path / "scenes" / "small.json").write_text(json.dumps(SCENE), encoding="utf-8")
+    monkeypatch.chdir(tmp_path)
+    s = ratchet.sweep({**SWEEP, "scene": "scenes/small.json"}, "out/sweep", jobs=1)
+    written = json.loads((tmp_path / "out" / "sweep" / "sweep.json").read_text(encoding="utf-8"))
+    assert written["scene"] == str(tmp_path / "scenes" / "small.json")
+    _same_runs(s, file_sweep)
+
+
+def test_a_sweep_dict_that_is_not_json_is_refused_before_anything_is_written(tmp_path):
+    _need_program()
+    with pytest.raises(ratchet.SceneError, match=r"^<sweep dict>: cannot be written as JSON"):
+        ratchet.sweep({**SWEEP, "set": {"materials.friction": float("nan")}}, tmp_path / "sweep")
+    assert not (tmp_path / "sweep").exists()
+    with pytest.raises(ratchet.SceneError, match=r"field 'grid.materials.friction'") as raised:
+        ratchet.sweep({**SWEEP, "grid": {"materials.friction": 0.3}}, tmp_path / "bad")
+    assert raised.value.returncode == 2
+
+
 # ----------------------------------------------------------------- harness --
 
 def test_the_harness_finds_the_program_through_the_package(monkeypatch, tmp_path):

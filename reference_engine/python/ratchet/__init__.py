@@ -2,7 +2,7 @@
 
     World(scene, settings, **kw)   a world in this process: step it, read its state as numpy
     run(scene, out, settings, **kw)  `ratchet run` into a folder; returns load_run(out)
-    sweep(file, out, settings, **kw) `ratchet sweep`; returns its summary
+    sweep(sweep, out, settings, **kw) `ratchet sweep` of a file or dict; returns its summary
     load_run(folder)                run.json and DataFrames with stage and cycle columns
     program(), command(), call()    the program itself: which one, a command line, running it
 

@@ -24,11 +24,13 @@ from .run_data import RunData, load_run
 #: The file a scene given as a dict is written to in the run's folder: run.json then
 #: names a file that exists, and the folder holds its own input.
 SCENE_FILE = "scene.json"
+#: The same for a sweep given as a dict, in the sweep's folder.
+SWEEP_FILE = "sweep.json"
 
 
 def _input_file(data: str | os.PathLike | Mapping[str, Any], folder: Path, name: str, origin: str) -> str:
-    """The path of a scene: a file as it is, a dict written atomically to folder/name
-    first (SceneError naming `origin` if it is not JSON)."""
+    """The path of a scene or sweep: a file as it is, a dict written atomically to
+    folder/name first (SceneError naming `origin` if it is not JSON)."""
     if not isinstance(data, Mapping):
         return os.fspath(data)
     try:
@@ -74,15 +76,31 @@ class SweepData:
         return load_run(self.folder / "runs" / str(int(run_id)))
 
 
-def sweep(sweep_file: str | os.PathLike, out: str | os.PathLike, settings: Mapping[str, Any] | None = None,
-          *, jobs: int | None = None, quiet: bool = True, ratchet: str | os.PathLike | None = None,
-          extra_args: Sequence[str] = (), **keywords: Any) -> SweepData:
+def _sweep_dict(sweep: Mapping[str, Any]) -> dict[str, Any]:
+    """A sweep given as a dict, as its file in the sweep's folder must say it: a relative
+    `scene` path is taken from the current folder (a file's is from the file's folder)."""
+    data = dict(sweep)
+    scene = data.get("scene")
+    if isinstance(scene, (str, os.PathLike)) and not os.path.isabs(scene):
+        data["scene"] = os.path.abspath(scene)
+    return data
+
+
+def sweep(sweep: str | os.PathLike | Mapping[str, Any], out: str | os.PathLike,
+          settings: Mapping[str, Any] | None = None, *, jobs: int | None = None, quiet: bool = True,
+          ratchet: str | os.PathLike | None = None, extra_args: Sequence[str] = (), **keywords: Any) -> SweepData:
     """`ratchet sweep SWEEP --out OUT [--jobs N] [--set k=v ...]`; resumable: completed runs
     are kept. Returns the summary; raises as run() does (a run that did not complete
-    makes the program exit 1: RunFailed)."""
+    makes the program exit 1: RunFailed).
+
+    sweep:  a sweep file, or a dict (docs/sweeps.md) written to OUT/sweep.json first; a
+            relative `scene` path in it is taken from the current folder
+    """
     binary = program(ratchet)
     out = Path(out)
-    arguments = [os.fspath(sweep_file), "--out", str(out)]
+    if isinstance(sweep, Mapping):
+        sweep = _sweep_dict(sweep)
+    arguments = [_input_file(sweep, out, SWEEP_FILE, "<sweep dict>"), "--out", str(out)]
     if jobs is not None:
         arguments += ["--jobs", str(int(jobs))]
     call(command("sweep", *arguments, settings=settings, ratchet=binary, **keywords) + list(extra_args),
