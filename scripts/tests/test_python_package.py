@@ -388,6 +388,53 @@ def test_call_raises_the_program_s_error_with_its_exit_status(tmp_path):
     assert not (tmp_path / "out").exists()
 
 
+def _stand_in(folder: Path) -> tuple[Path, Path]:
+    """An executable that writes its arguments to a file, then runs the engine with them."""
+    log = folder / "calls.txt"
+    stand_in = folder / "ratchet"
+    stand_in.write_text(f'#!/bin/sh\necho "$*" >> "{log}"\nexec "{RATCHET}" "$@"\n', encoding="utf-8")
+    stand_in.chmod(0o755)
+    return stand_in, log
+
+
+#: The scripts that start the engine, each with its --ratchet: a short task for each.
+SCRIPTS_WITH_RATCHET = {
+    "campaign": ["scripts/campaign", "paper", "--status"],
+    "regression": ["regression/run", "single_particle_sphere", "--threads", "1"],
+}
+
+
+@pytest.mark.parametrize("name", SCRIPTS_WITH_RATCHET)
+def test_a_script_s_ratchet_option_is_the_program_it_runs(name, tmp_path):
+    _need_program()
+    stand_in, log = _stand_in(tmp_path)
+    script, *args = SCRIPTS_WITH_RATCHET[name]
+    extra = ["--work", str(tmp_path / "work")] if name == "regression" else ["--out", str(tmp_path / "work")]
+    done = subprocess.run([PYTHON, str(REPO_ROOT / script), *args, *extra, "--ratchet", str(stand_in)],
+                          capture_output=True, text=True, timeout=300, env={**os.environ, "RATCHET_BIN": "/none"})
+    assert done.returncode == 0, done.stderr
+    calls = log.read_text(encoding="utf-8").splitlines()
+    assert calls and calls[0].split()[0] == ("--version" if name == "campaign" else "run")
+
+
+@pytest.mark.parametrize("command, said", [
+    (["scripts/bench-cycled", "validation/sweeps/bed_quick.json", "--packing", "validation/sweeps/bed_quick.json"],
+     "bench-cycled: error: --ratchet: {bin}: no such file"),
+    (["scripts/compare-settings", "validation/accuracy/engine_standard.json", "--out", "{tmp}/out"],
+     "compare-settings: error: --ratchet: {bin}: no such file"),
+    (["scripts/campaign", "paper", "--status"], "campaign: error: --ratchet {bin}: no engine binary there"),
+    (["regression/run", "single_particle_sphere"], "regression/run: error: no engine binary at {bin}"),
+], ids=lambda c: c[0] if isinstance(c, list) else None)
+def test_a_missing_ratchet_is_named_before_any_work(command, said, tmp_path):
+    missing = tmp_path / "no_ratchet"
+    args = [a.format(tmp=tmp_path) for a in command[1:]]
+    done = subprocess.run([PYTHON, str(REPO_ROOT / command[0]), *args, "--ratchet", str(missing)], cwd=REPO_ROOT,
+                          capture_output=True, text=True, timeout=120)
+    assert done.returncode == 2
+    assert said.format(bin=missing) in done.stderr
+    assert list(tmp_path.iterdir()) == []  # nothing made
+
+
 # ------------------------------------------------------------ docs example --
 
 def test_the_docs_parameter_study_runs(tmp_path):
