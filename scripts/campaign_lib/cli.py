@@ -12,7 +12,8 @@ import sys
 import time
 from pathlib import Path
 
-from common.paths import REPO_ROOT, engine_binary
+from common.paths import REPO_ROOT
+from ratchet import command
 
 from . import golden, state
 from .assemble import assemble
@@ -123,10 +124,9 @@ def check_scenes(plan, states, engine) -> None:
         sets = [f"{k}={json.dumps(v)}" for k, v in sorted(plan.set.items())]
         sets += [f"{k}={json.dumps(v)}" for k, v in sorted(s.run.point.set.items())]
         sets.append(f"seed={s.run.seed}")
-        command = [str(engine.binary), "run", "--explain", str(plan.scene_path)]
-        for item in sets:
-            command += ["--set", item]
-        done = subprocess.run(command, capture_output=True, text=True)
+        line = command("run", "--explain", plan.scene_path, *(a for item in sets for a in ("--set", item)),
+                       ratchet=engine.binary)
+        done = subprocess.run(line, capture_output=True, text=True)
         if done.returncode != 0:
             message = done.stderr.strip().splitlines()[-1] if done.stderr.strip() else f"exit {done.returncode}"
             raise PlanError(f"{plan.path}: field '{blamed_field(plan, s.run.point, message)}' (point "
@@ -207,8 +207,7 @@ def main(argv=None) -> int:
     args = parser().parse_args(argv)
     try:
         plan = load_plan(resolve(args.plan))
-        binary = Path(args.ratchet) if args.ratchet else engine_binary()
-        engine = identify(binary)
+        engine = identify(args.ratchet)  # --ratchet, else the build's
         work = Path(args.out) if args.out else REPO_ROOT / "out" / "campaign" / plan.name
         results = Path(args.results) if args.results else REPO_ROOT / "validation" / "results" / plan.name
         work = work.resolve()

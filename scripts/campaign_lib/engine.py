@@ -10,6 +10,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from common.paths import REPO_ROOT
+from ratchet import ProgramNotFound, command, program
 
 #: What the engine is built from. The repository's HEAD moves with every stored result
 #: (--commit), so the engine is named by the last commit that touched these instead.
@@ -75,13 +76,16 @@ class Engine:
                 "engine_dirty": self.dirty, "engine_sources": list(ENGINE_SOURCES)}
 
 
-def identify(binary: Path) -> Engine:
-    binary = Path(binary)
-    if not binary.is_file() or not os.access(binary, os.X_OK):
-        raise EngineError(f"--ratchet {binary}: no engine binary there (build it: RATCHET_JOBS=1 scripts/build "
-                          "-DRATCHET_BUILD_BENCHMARKS=OFF)")
+def identify(ratchet: str | os.PathLike | None = None) -> Engine:
+    """The engine `ratchet` (--ratchet), else the build's (ratchet.program: $RATCHET_BIN,
+    else <$RATCHET_BUILD_DIR or build>/reference_engine/ratchet)."""
     try:
-        done = subprocess.run([str(binary), "--version"], capture_output=True, text=True, timeout=60)
+        binary = program(ratchet)
+    except ProgramNotFound as e:
+        raise EngineError(f"--ratchet {e.filename}: no engine binary there (build it: RATCHET_JOBS=1 scripts/build "
+                          "-DRATCHET_BUILD_BENCHMARKS=OFF)") from None
+    try:
+        done = subprocess.run(command("--version", ratchet=binary), capture_output=True, text=True, timeout=60)
     except OSError as error:
         raise EngineError(f"--ratchet {binary}: cannot run it ({error})") from None
     if done.returncode != 0:

@@ -2,46 +2,19 @@
 
 A reader sees either the old file or the complete new one, never a partial file; on
 any error the temporary file is removed and the old file (if any) is left as it was.
+write_atomic itself is the Python package's (reference_engine/python/ratchet/files.py),
+so the package and the harness share one implementation.
 """
 
 from __future__ import annotations
 
 import io
 import os
-import tempfile
 
+from common import paths  # noqa: F401  (puts this checkout's package `ratchet` on sys.path)
+from ratchet.files import write_atomic
 
-def write_atomic(path: str | os.PathLike, content: str | bytes) -> None:
-    """Writes `content` to `path` atomically: str as UTF-8 text, bytes as they are.
-
-    The folder is created if missing. The new file gets the usual mode (0666 less the
-    umask), not the 0600 of a temporary file.
-    """
-    if isinstance(content, str):
-        data = content.encode("utf-8")
-    elif isinstance(content, (bytes, bytearray, memoryview)):
-        data = bytes(content)
-    else:
-        raise TypeError(f"write_atomic: content must be str or bytes, not {type(content).__name__}")
-    path = os.fspath(path)
-    folder = os.path.dirname(os.path.abspath(path))
-    os.makedirs(folder, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix="." + os.path.basename(path) + ".", suffix=".partial", dir=folder)
-    try:
-        with os.fdopen(fd, "wb") as fh:
-            fh.write(data)
-            fh.flush()
-            os.fsync(fh.fileno())
-        umask = os.umask(0)
-        os.umask(umask)
-        os.chmod(tmp, 0o666 & ~umask)
-        os.replace(tmp, path)
-    except BaseException:
-        try:
-            os.unlink(tmp)
-        except OSError:
-            pass
-        raise
+__all__ = ["write_atomic", "write_csv_atomic", "FIGURE_FORMATS", "figure_format", "save_figure_atomic"]
 
 
 def write_csv_atomic(df, path: str | os.PathLike, **kwargs) -> None:

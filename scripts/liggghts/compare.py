@@ -20,7 +20,8 @@ import pandas as pd
 
 from common.fsutil import save_figure_atomic, write_atomic, write_csv_atomic
 from common.jsonsafe import dumps
-from common.paths import engine_binary
+from common import paths  # noqa: F401  (puts this checkout's package `ratchet` on sys.path)
+from ratchet import ProgramNotFound, command, program
 
 from .parse import ParseError, dem_wall_profile, log_completed, parse_run, read_dump
 from .scene import EngineError, SceneError, load_scene
@@ -49,7 +50,7 @@ def engine_snapshot_every(scene):
 
 
 def engine_command(ratchet, scene_path, outdir, scene, extra_sets=()):
-    cmd = [ratchet, "run", scene_path, "--out", outdir]
+    cmd = command("run", scene_path, "--out", outdir, ratchet=ratchet)
     k = engine_snapshot_every(scene)
     if k > 0:
         cmd += ["--set", f"outputs.bodies_every={k}"]
@@ -61,7 +62,7 @@ def engine_command(ratchet, scene_path, outdir, scene, extra_sets=()):
 def engine_check_scene(ratchet, scene_path, extra_sets=()):
     """`ratchet run --explain`: the engine's own parser checks the scene (it is the
     authority on the format). Returns (ok, message)."""
-    cmd = [ratchet, "run", "--explain", scene_path]
+    cmd = command("run", "--explain", scene_path, ratchet=ratchet)
     for s in extra_sets:
         cmd += ["--set", s]
     r = subprocess.run(cmd, capture_output=True, text=True)
@@ -353,9 +354,10 @@ def main(argv=None):
 
 
 def _main(args):
-    ratchet = str(engine_binary())
-    if not (os.path.isfile(ratchet) and os.access(ratchet, os.X_OK)):
-        raise CompareError(f"engine binary not found or not executable: {ratchet} (set RATCHET_BIN)")
+    try:
+        ratchet = str(program())  # the build's: $RATCHET_BIN, else <$RATCHET_BUILD_DIR or build>/reference_engine/ratchet
+    except ProgramNotFound as e:
+        raise CompareError(f"engine binary not found or not executable: {e.filename} (set RATCHET_BIN)") from None
     scene = load_scene(args.scene, ratchet)  # the spheres: `ratchet bodies`
     out = args.out
     os.makedirs(out, exist_ok=True)

@@ -19,7 +19,8 @@ from dataclasses import dataclass, field
 from typing import List, Optional
 
 from common.jsonc import loads_json_with_comments
-from common.paths import engine_binary
+from common import paths  # noqa: F401  (puts this checkout's package `ratchet` on sys.path)
+from ratchet import ProgramNotFound, command, program
 
 BODIES_FORMAT = "ratchet-bodies"
 BODIES_VERSION = 1
@@ -261,18 +262,21 @@ def cone_walls(bottom_radius, opening_angle_deg, segments):
 
 def engine_bodies(path, ratchet=None):
     """The engine's bodies of the scene file `path`: runs `ratchet bodies PATH --out
-    TMP --quiet` and returns the document it wrote. `ratchet`: the binary (default
-    common.paths.engine_binary(): $RATCHET_BIN, else <$RATCHET_BUILD_DIR or
+    TMP --quiet` and returns the document it wrote. `ratchet`: the binary (default the
+    build's, ratchet.program(): $RATCHET_BIN, else <$RATCHET_BUILD_DIR or
     build>/reference_engine/ratchet). A scene the engine refuses raises SceneError with
     the engine's message (it names the file and the field); a missing binary or another
     failure raises EngineError."""
-    ratchet = str(ratchet or engine_binary())
-    if not (os.path.isfile(ratchet) and os.access(ratchet, os.X_OK)):
-        raise EngineError(f"engine binary not found or not executable: {ratchet} (build it, or set "
-                          "RATCHET_BUILD_DIR or RATCHET_BIN): the translation takes the bodies from `ratchet bodies`")
+    try:
+        ratchet = str(program(ratchet))
+    except ProgramNotFound as e:
+        raise EngineError(f"engine binary not found or not executable: {e.filename} (build it, or set "
+                          "RATCHET_BUILD_DIR or RATCHET_BIN): the translation takes the bodies from `ratchet bodies`") \
+            from None
     with tempfile.TemporaryDirectory(prefix="ratchet_bodies_") as tmp:
         out = os.path.join(tmp, "bodies.json")
-        r = subprocess.run([ratchet, "bodies", path, "--out", out, "--quiet"], capture_output=True, text=True)
+        r = subprocess.run(command("bodies", path, "--out", out, "--quiet", ratchet=ratchet), capture_output=True,
+                           text=True)
         msg = (r.stderr or r.stdout).strip()
         if msg.startswith("ratchet: error: "):
             msg = msg[len("ratchet: error: "):]

@@ -280,15 +280,66 @@ def test_run_drives_the_program_and_a_scene_dict_is_kept_in_the_folder(tmp_path)
     assert Path(r.info["scene_file"]).name == "scene.json"
 
 
-def test_sweep_drives_the_program(tmp_path):
+#: Two short runs (the pour only) of SCENE: a sweep in about a second.
+SWEEP = {"scene": SCENE, "set": {"thermal.cycles": 0, "time.duration": 1.2},
+         "grid": {"materials.friction": [0.3, 0.6]}}
+
+
+@pytest.fixture(scope="module")
+def file_sweep(tmp_path_factory):
+    """SWEEP as a file and ratchet.sweep of it."""
     _need_program()
-    sweep_file = tmp_path / "sweep.json"
-    sweep_file.write_text(json.dumps({"scene": SCENE, "set": {"thermal.cycles": 0, "time.duration": 1.2},
-                                      "grid": {"materials.friction": [0.3, 0.6]}}), encoding="utf-8")
-    s = ratchet.sweep(sweep_file, tmp_path / "sweep", jobs=1)
+    folder = tmp_path_factory.mktemp("file_sweep")
+    sweep_file = folder / "sweep.json"
+    sweep_file.write_text(json.dumps(SWEEP), encoding="utf-8")
+    return ratchet.sweep(sweep_file, folder / "sweep", jobs=1)
+
+
+def test_sweep_drives_the_program(file_sweep):
+    s = file_sweep
     assert s.summary["run"].tolist() == [0, 1]
     assert s.summary["materials.friction"].tolist() == [0.3, 0.6]
     assert s.run(1).info["scene"]["materials"]["friction"] == 0.6
+
+
+def _same_runs(a: ratchet.SweepData, b: ratchet.SweepData):
+    # Everything but the paths and clocks: the runs' results, bit for bit.
+    for run_id in a.summary["run"]:
+        x, y = a.run(run_id), b.run(run_id)
+        assert x.info["scene_hash"] == y.info["scene_hash"]
+        assert x.summary == y.summary
+        pd.testing.assert_frame_equal(x.timeseries.filter(regex="^(?!time_)"), y.timeseries.filter(regex="^(?!time_)"))
+
+
+def test_sweep_takes_a_dict_written_atomically_to_its_folder(file_sweep, tmp_path):
+    s = ratchet.sweep(SWEEP, tmp_path / "sweep", jobs=1)
+    written = tmp_path / "sweep" / "sweep.json"
+    assert json.loads(written.read_text(encoding="utf-8")) == SWEEP
+    assert not list((tmp_path / "sweep").glob(".*.partial"))  # no temporary file left
+    assert s.summary["materials.friction"].tolist() == [0.3, 0.6]
+    assert s.run(0).info["scene_file"] == f"{written} run 0"  # the runs name a file that exists
+    _same_runs(s, file_sweep)
+
+
+def test_a_sweep_dict_s_relative_scene_is_taken_from_the_current_folder(file_sweep, tmp_path, monkeypatch):
+    _need_program()
+    (tmp_path / "scenes").mkdir()
+    (tmp_path / "scenes" / "small.json").write_text(json.dumps(SCENE), encoding="utf-8")
+    monkeypatch.chdir(tmp_path)
+    s = ratchet.sweep({**SWEEP, "scene": "scenes/small.json"}, "out/sweep", jobs=1)
+    written = json.loads((tmp_path / "out" / "sweep" / "sweep.json").read_text(encoding="utf-8"))
+    assert written["scene"] == str(tmp_path / "scenes" / "small.json")
+    _same_runs(s, file_sweep)
+
+
+def test_a_sweep_dict_that_is_not_json_is_refused_before_anything_is_written(tmp_path):
+    _need_program()
+    with pytest.raises(ratchet.SceneError, match=r"^<sweep dict>: cannot be written as JSON"):
+        ratchet.sweep({**SWEEP, "set": {"materials.friction": float("nan")}}, tmp_path / "sweep")
+    assert not (tmp_path / "sweep").exists()
+    with pytest.raises(ratchet.SceneError, match=r"field 'grid.materials.friction'") as raised:
+        ratchet.sweep({**SWEEP, "grid": {"materials.friction": 0.3}}, tmp_path / "bad")
+    assert raised.value.returncode == 2
 
 
 # ----------------------------------------------------------------- harness --
@@ -299,6 +350,89 @@ def test_the_harness_finds_the_program_through_the_package(monkeypatch, tmp_path
     monkeypatch.setenv("RATCHET_BIN", str(tmp_path / "r"))
     with pytest.raises(FileNotFoundError, match=re.escape(str(tmp_path / "r"))):
         ratchet.run(SCENE, tmp_path / "out")
+
+
+def test_program_is_the_given_one_else_the_build_s(monkeypatch, tmp_path):
+    _need_program()
+    assert ratchet.program() == engine_binary()
+    assert ratchet.program("") == engine_binary()  # empty: not given (an unset option)
+    assert ratchet.program(str(RATCHET)) == RATCHET
+    with pytest.raises(ratchet.ProgramNotFound, match=r"/none is not built or not executable \(as given") as raised:
+        ratchet.program(tmp_path / "none")
+    assert raised.value.filename == str(tmp_path / "none")
+    plain = tmp_path / "plain"
+    plain.write_text("#!/bin/sh\n")  # there, but not executable
+    with pytest.raises(FileNotFoundError, match="plain is not built or not executable"):
+        ratchet.program(plain)
+    monkeypatch.setenv("RATCHET_BIN", str(tmp_path / "r"))
+    with pytest.raises(ratchet.ProgramNotFound, match=r"from \$RATCHET_BIN"):
+        ratchet.program()
+
+
+def test_command_puts_the_settings_after_the_arguments():
+    _need_program()
+    assert ratchet.command("run", Path("a.json"), "--out", "o", settings={"solver.p_gap": 0.05},
+                           thermal__cycles=0) == \
+        [str(RATCHET), "run", "a.json", "--out", "o", "--set", "solver.p_gap=0.05", "--set", "thermal.cycles=0"]
+
+
+def test_call_raises_the_program_s_error_with_its_exit_status(tmp_path):
+    _need_program()
+    ratchet.call(ratchet.command("--version"))  # exit 0: returns
+    bad = tmp_path / "bad.json"
+    bad.write_text(json.dumps({**SCENE, "solver": {"p_gap": -1}}), encoding="utf-8")
+    with pytest.raises(ratchet.SceneError, match=r"bad\.json: field 'solver\.p_gap'.*\(ratchet run: exit status 2\)$") \
+            as raised:
+        ratchet.call(ratchet.command("run", bad, "--out", tmp_path / "out"))
+    assert raised.value.returncode == 2 and "ratchet: error:" not in str(raised.value)
+    assert not (tmp_path / "out").exists()
+
+
+def _stand_in(folder: Path) -> tuple[Path, Path]:
+    """An executable that writes its arguments to a file, then runs the engine with them."""
+    log = folder / "calls.txt"
+    stand_in = folder / "ratchet"
+    stand_in.write_text(f'#!/bin/sh\necho "$*" >> "{log}"\nexec "{RATCHET}" "$@"\n', encoding="utf-8")
+    stand_in.chmod(0o755)
+    return stand_in, log
+
+
+#: The scripts that start the engine, each with its --ratchet: a short task for each.
+SCRIPTS_WITH_RATCHET = {
+    "campaign": ["scripts/campaign", "paper", "--status"],
+    "regression": ["regression/run", "single_particle_sphere", "--threads", "1"],
+}
+
+
+@pytest.mark.parametrize("name", SCRIPTS_WITH_RATCHET)
+def test_a_script_s_ratchet_option_is_the_program_it_runs(name, tmp_path):
+    _need_program()
+    stand_in, log = _stand_in(tmp_path)
+    script, *args = SCRIPTS_WITH_RATCHET[name]
+    extra = ["--work", str(tmp_path / "work")] if name == "regression" else ["--out", str(tmp_path / "work")]
+    done = subprocess.run([PYTHON, str(REPO_ROOT / script), *args, *extra, "--ratchet", str(stand_in)],
+                          capture_output=True, text=True, timeout=300, env={**os.environ, "RATCHET_BIN": "/none"})
+    assert done.returncode == 0, done.stderr
+    calls = log.read_text(encoding="utf-8").splitlines()
+    assert calls and calls[0].split()[0] == ("--version" if name == "campaign" else "run")
+
+
+@pytest.mark.parametrize("command, said", [
+    (["scripts/bench-cycled", "validation/sweeps/bed_quick.json", "--packing", "validation/sweeps/bed_quick.json"],
+     "bench-cycled: error: --ratchet: {bin}: no such file"),
+    (["scripts/compare-settings", "validation/accuracy/engine_standard.json", "--out", "{tmp}/out"],
+     "compare-settings: error: --ratchet: {bin}: no such file"),
+    (["scripts/campaign", "paper", "--status"], "campaign: error: --ratchet {bin}: no engine binary there"),
+    (["regression/run", "single_particle_sphere"], "regression/run: error: no engine binary at {bin}"),
+], ids=lambda c: c[0] if isinstance(c, list) else None)
+def test_a_missing_ratchet_is_named_before_any_work(command, said, tmp_path):
+    missing = tmp_path / "no_ratchet"
+    args = [a.format(tmp=tmp_path) for a in command[1:]]
+    done = subprocess.run([PYTHON, str(REPO_ROOT / command[0]), *args, "--ratchet", str(missing)], cwd=REPO_ROOT,
+                          capture_output=True, text=True, timeout=120)
+    assert done.returncode == 2
+    assert said.format(bin=missing) in done.stderr
+    assert list(tmp_path.iterdir()) == []  # nothing made
 
 
 # ------------------------------------------------------------ docs example --

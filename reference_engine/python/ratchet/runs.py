@@ -1,7 +1,7 @@
 """ratchet.run and ratchet.sweep: the `ratchet` program driven from Python, so a run from
 here is exactly a run from the shell (same files, same checks, resumable).
 
-The program is the one of the same build as the module (locate.engine_binary:
+The program is the one of the same build as the module (launch.program:
 $RATCHET_BIN, else <build>/reference_engine/ratchet), or the one passed as `ratchet=`.
 """
 
@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import json
 import os
-import subprocess
 from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
@@ -17,51 +16,30 @@ from typing import Any, Sequence
 
 import pandas as pd
 
-from . import settings as _settings
-from .errors import RunFailed, SceneError
-from .locate import engine_binary
+from .errors import SceneError
+from .files import write_atomic
+from .launch import call, command, program
 from .run_data import RunData, load_run
 
 #: The file a scene given as a dict is written to in the run's folder: run.json then
 #: names a file that exists, and the folder holds its own input.
 SCENE_FILE = "scene.json"
-#: The program's exit status for input it refuses (docs/cli.md, "Exit status").
-EXIT_BAD_INPUT = 2
+#: The same for a sweep given as a dict, in the sweep's folder.
+SWEEP_FILE = "sweep.json"
 
 
-def _program(ratchet: str | os.PathLike | None) -> Path:
-    program = Path(ratchet) if ratchet else engine_binary()
-    if not (program.is_file() and os.access(program, os.X_OK)):
-        raise FileNotFoundError(f"the ratchet program {program} is not built (run scripts/build, or set "
-                                "RATCHET_BIN or RATCHET_BUILD_DIR)")
-    return program
-
-
-def _scene_path(scene: str | os.PathLike | Mapping[str, Any], folder: Path) -> str:
-    if not isinstance(scene, Mapping):
-        return os.fspath(scene)
+def _input_file(data: str | os.PathLike | Mapping[str, Any], folder: Path, name: str, origin: str) -> str:
+    """The path of a scene or sweep: a file as it is, a dict written atomically to
+    folder/name first (SceneError naming `origin` if it is not JSON)."""
+    if not isinstance(data, Mapping):
+        return os.fspath(data)
     try:
-        text = json.dumps(scene, indent=2, allow_nan=False)
+        text = json.dumps(data, indent=2, allow_nan=False)
     except (TypeError, ValueError) as e:
-        raise SceneError(f"<scene dict>: cannot be written as JSON ({e})") from None
-    folder.mkdir(parents=True, exist_ok=True)
-    path = folder / SCENE_FILE
-    path.write_text(text + "\n", encoding="utf-8")
+        raise SceneError(f"{origin}: cannot be written as JSON ({e})") from None
+    path = folder / name
+    write_atomic(path, text + "\n")
     return str(path)
-
-
-def _call(command: list[str], quiet: bool) -> None:
-    """Runs the program; quiet: its messages kept for the exception, else shown as they come."""
-    done = subprocess.run(command, stdin=subprocess.DEVNULL, text=True,
-                          stdout=subprocess.DEVNULL if quiet else None,
-                          stderr=subprocess.PIPE if quiet else None)
-    if done.returncode == 0:
-        return
-    said = (done.stderr or "").strip().splitlines()
-    errors = [line.removeprefix("ratchet: error: ") for line in said if line.startswith("ratchet: error: ")]
-    message = "\n".join(errors or said[-5:]) or "see its messages above"
-    kind = SceneError if done.returncode == EXIT_BAD_INPUT else RunFailed
-    raise kind(f"{message} (ratchet {command[1]}: exit status {done.returncode})")
 
 
 def run(scene: str | os.PathLike | Mapping[str, Any], out: str | os.PathLike,
@@ -74,16 +52,15 @@ def run(scene: str | os.PathLike | Mapping[str, Any], out: str | os.PathLike,
                underscores (materials__friction=0.3)
     Raises SceneError for input the program refuses (exit 2), RunFailed otherwise.
     """
-    program = _program(ratchet)
+    binary = program(ratchet)
     out = Path(out)
-    command = [str(program), "run", _scene_path(scene, out), "--out", str(out)]
+    arguments = [_input_file(scene, out, SCENE_FILE, "<scene dict>"), "--out", str(out)]
     if packing is not None:
-        command += ["--packing", os.fspath(packing)]
-    for assignment in _settings.overrides(settings, keywords):
-        command += ["--set", assignment]
+        arguments += ["--packing", os.fspath(packing)]
+    line = command("run", *arguments, settings=settings, ratchet=binary, **keywords)
     if quiet:
-        command.append("--quiet")
-    _call(command, quiet)
+        line.append("--quiet")
+    call(line, quiet=quiet)
     return load_run(out)
 
 
@@ -99,18 +76,33 @@ class SweepData:
         return load_run(self.folder / "runs" / str(int(run_id)))
 
 
-def sweep(sweep_file: str | os.PathLike, out: str | os.PathLike, settings: Mapping[str, Any] | None = None,
-          *, jobs: int | None = None, quiet: bool = True, ratchet: str | os.PathLike | None = None,
-          extra_args: Sequence[str] = (), **keywords: Any) -> SweepData:
+def _sweep_dict(sweep: Mapping[str, Any]) -> dict[str, Any]:
+    """A sweep given as a dict, as its file in the sweep's folder must say it: a relative
+    `scene` path is taken from the current folder (a file's is from the file's folder)."""
+    data = dict(sweep)
+    scene = data.get("scene")
+    if isinstance(scene, (str, os.PathLike)) and not os.path.isabs(scene):
+        data["scene"] = os.path.abspath(scene)
+    return data
+
+
+def sweep(sweep: str | os.PathLike | Mapping[str, Any], out: str | os.PathLike,
+          settings: Mapping[str, Any] | None = None, *, jobs: int | None = None, quiet: bool = True,
+          ratchet: str | os.PathLike | None = None, extra_args: Sequence[str] = (), **keywords: Any) -> SweepData:
     """`ratchet sweep SWEEP --out OUT [--jobs N] [--set k=v ...]`; resumable: completed runs
     are kept. Returns the summary; raises as run() does (a run that did not complete
-    makes the program exit 1: RunFailed)."""
-    program = _program(ratchet)
+    makes the program exit 1: RunFailed).
+
+    sweep:  a sweep file, or a dict (docs/sweeps.md) written to OUT/sweep.json first; a
+            relative `scene` path in it is taken from the current folder
+    """
+    binary = program(ratchet)
     out = Path(out)
-    command = [str(program), "sweep", os.fspath(sweep_file), "--out", str(out)]
+    if isinstance(sweep, Mapping):
+        sweep = _sweep_dict(sweep)
+    arguments = [_input_file(sweep, out, SWEEP_FILE, "<sweep dict>"), "--out", str(out)]
     if jobs is not None:
-        command += ["--jobs", str(int(jobs))]
-    for assignment in _settings.overrides(settings, keywords):
-        command += ["--set", assignment]
-    _call(command + list(extra_args), quiet)
+        arguments += ["--jobs", str(int(jobs))]
+    call(command("sweep", *arguments, settings=settings, ratchet=binary, **keywords) + list(extra_args),
+         quiet=quiet)
     return SweepData(folder=out, summary=pd.read_csv(out / "summary.csv", float_precision="round_trip"))
