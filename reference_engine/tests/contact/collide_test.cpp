@@ -95,5 +95,37 @@ TEST(Collide, PlacedVertexCountFollowsTheShape) {
   EXPECT_EQ(placed_vertex_count(s, ball), 0);
 }
 
+// Each kind fills its own part of the placed body: a sphere its radius at the scale, a
+// polyhedron its vertices where the step keeps them and its view on them.
+TEST(Collide, EachKindPlacesItsBody) {
+  SceneDef s;
+  s.shapes.push_back(build_box(Vec3(1, 1, 1)).shape);
+  const Vec3 x(1, 2, 3);
+  const Mat3 R = Eigen::AngleAxisd(0.3, Vec3(1, 2, 2).normalized()).toRotationMatrix();
+  BodyDef ball;
+  ball.radius = 0.5;
+  const CollisionBody b = place_collision_body(s, ball, x, R, 1.5, nullptr);
+  EXPECT_EQ(b.kind, ShapeKind::Sphere);
+  EXPECT_EQ(b.center, x);
+  EXPECT_EQ(b.radius, 0.75);
+  EXPECT_EQ(b.poly.shape, nullptr);
+  BodyDef poly;
+  poly.kind = ShapeKind::Polyhedron;
+  poly.shape = 0;
+  std::vector<Vec3> vertices(static_cast<std::size_t>(placed_vertex_count(s, poly)));
+  const CollisionBody p = place_collision_body(s, poly, x, R, 1.5, vertices.data());
+  EXPECT_EQ(p.kind, ShapeKind::Polyhedron);
+  EXPECT_EQ(p.center, x);
+  EXPECT_EQ(p.poly.shape, &s.shapes[0]);
+  EXPECT_EQ(p.poly.world_vertices, vertices.data());
+  EXPECT_EQ(p.poly.center, x);
+  EXPECT_EQ(p.poly.R, R);
+  EXPECT_EQ(p.poly.scale, 1.5);
+  for (std::size_t k = 0; k < vertices.size(); ++k) EXPECT_EQ(vertices[k], x + 1.5 * (R * s.shapes[0].vertices[k]));
+  EXPECT_TRUE(manifold_reusable(p, p));
+  EXPECT_FALSE(manifold_reusable(p, b));
+  EXPECT_FALSE(manifold_reusable(b, b));
+}
+
 }  // namespace
 }  // namespace ratchet

@@ -1,6 +1,6 @@
 // The seam of a new per-cycle observable: a throwaway accumulator, registered in one
-// line below and named nowhere in the engine, gets its column in cycles.csv and its
-// record in a checkpoint.
+// line (a ScopedAccumulator) and named nowhere in the engine, gets its column in
+// cycles.csv and its record in a checkpoint, and leaves no trace once the guard is gone.
 #include "ratchet/run/accumulators.hpp"
 
 #include <gtest/gtest.h>
@@ -38,9 +38,6 @@ class StepsPerCycle final : public Accumulator {
   std::vector<int> steps_;
 };
 
-// The one line of registration.
-const bool kRegistered = register_accumulator<StepsPerCycle>("steps_per_cycle");
-
 // Two cycles of 0.3 = 30 steps after a rest of 10 steps: 70 steps.
 SceneDef two_short_cycles() {
   return build_scene(json::parse(R"({
@@ -55,7 +52,7 @@ SceneDef two_short_cycles() {
 using test::lines_of;
 
 TEST(Accumulators, TheEnginesComeFirstInColumnOrderThenTheRegistered) {
-  ASSERT_TRUE(kRegistered);
+  const ScopedAccumulator registered = scoped_accumulator<StepsPerCycle>("steps_per_cycle");
   const std::vector<AccumulatorEntry>& list = accumulator_entries();
   ASSERT_GE(list.size(), 2u);
   EXPECT_STREQ(list.front().key, "peaks");  // cycles.csv: peak_pressure right after cycle
@@ -63,6 +60,7 @@ TEST(Accumulators, TheEnginesComeFirstInColumnOrderThenTheRegistered) {
 }
 
 TEST(Accumulators, ARegisteredObservableAppearsInCyclesCsv) {
+  const ScopedAccumulator registered = scoped_accumulator<StepsPerCycle>("steps_per_cycle");
   const fs::path d = test::fresh_dir("ratchet_accumulators");
   World world(two_short_cycles());
   RunOptions opt;
@@ -80,6 +78,7 @@ TEST(Accumulators, ARegisteredObservableAppearsInCyclesCsv) {
 // Saved after 45 steps (10 before cycling, 30 of cycle 0, 5 of cycle 1), restored into
 // the observers of a resumed run, which count cycle 1's other 25.
 TEST(Accumulators, ARegisteredObservableKeepsItsRecordInACheckpoint) {
+  const ScopedAccumulator registered = scoped_accumulator<StepsPerCycle>("steps_per_cycle");
   World world(two_short_cycles());
   RunObservers before(world, "");
   for (int k = 0; k < 45; ++k) {
@@ -99,6 +98,28 @@ TEST(Accumulators, ARegisteredObservableKeepsItsRecordInACheckpoint) {
   const std::vector<std::string> rows = lines_of(d / "cycles.csv");
   ASSERT_EQ(rows.size(), 3u);
   EXPECT_EQ(rows[2].substr(rows[2].rfind(',') + 1), "30");
+  fs::remove_all(d);
+}
+
+// Registered for one scope only: after it, the list is the engine's again and a run has
+// neither the column nor the checkpoint record.
+TEST(Accumulators, AnObservableIsGoneWithItsGuard) {
+  const std::size_t engines = accumulator_entries().size();
+  {
+    const ScopedAccumulator registered = scoped_accumulator<StepsPerCycle>("steps_per_cycle");
+    ASSERT_EQ(accumulator_entries().size(), engines + 1);
+  }
+  ASSERT_EQ(accumulator_entries().size(), engines);
+  const fs::path d = test::fresh_dir("ratchet_accumulators");
+  World world(two_short_cycles());
+  RunOptions opt;
+  opt.out_dir = d.string();
+  run_world(world, opt);
+  const std::vector<std::string> rows = lines_of(d / "cycles.csv");
+  ASSERT_EQ(rows.size(), 3u);
+  EXPECT_EQ(rows[0].find("steps_in_cycle"), std::string::npos) << rows[0];
+  EXPECT_EQ(rows[0].substr(rows[0].rfind(',') + 1), "unconverged_steps");
+  EXPECT_FALSE(RunObservers(world, "").save().contains("steps_per_cycle"));
   fs::remove_all(d);
 }
 

@@ -99,5 +99,21 @@ TEST(LocalCoulomb, RandomProblemsSatisfySignoriniAndCoulomb) {
   EXPECT_GT(counts[0], 1000);
 }
 
+// The warm start's clip is project_onto_cone's clip but for its rounding: the two agree
+// to a few ulps of the impulse, and where the cap is zero the clip's tangent is +0.
+TEST(LocalCoulomb, KeptImpulseIsClippedAsProjectOntoCone) {
+  Rng rng(5);
+  for (int k = 0; k < 10000; ++k) {
+    const Vec3 l(uniform(rng, -1.0, 1.0), uniform(rng, -1.0, 1.0), uniform(rng, -1.0, 1.0));
+    const double mu = uniform(rng, 0.0, 1.0);
+    // 1e-15: hypot and sqrt of the sum of squares differ by an ulp or so, of |l| <= 2.
+    EXPECT_LE((clip_kept_impulse(l, mu) - project_onto_cone(l, mu)).norm(), 1e-15) << l.transpose();
+  }
+  EXPECT_EQ(clip_kept_impulse(Vec3(1.0, 0.2, -0.1), 0.5), Vec3(1.0, 0.2, -0.1));  // inside: kept
+  const Vec3 pulled = clip_kept_impulse(Vec3(-1.0, -0.3, -0.4), 0.5);
+  EXPECT_EQ(pulled, Vec3::Zero());
+  EXPECT_FALSE(std::signbit(pulled[1]) || std::signbit(pulled[2]));
+}
+
 }  // namespace
 }  // namespace ratchet

@@ -1,5 +1,7 @@
 #include "ratchet/run/accumulators.hpp"
 
+#include <iterator>
+
 #include "ratchet/run/cycle_stats.hpp"
 #include "ratchet/run/displacement_windows.hpp"
 #include "ratchet/run/pressure_peaks.hpp"
@@ -38,9 +40,16 @@ std::vector<AccumulatorEntry>& entries() {
 
 const std::vector<AccumulatorEntry>& accumulator_entries() { return entries(); }
 
-bool register_accumulator(const AccumulatorEntry& entry) {
-  entries().push_back(entry);
-  return true;
+ScopedAccumulator::ScopedAccumulator(const AccumulatorEntry& entry) : entry_(entry) { entries().push_back(entry); }
+
+// The last equal entry: guards taken out of order still leave the others' entries.
+ScopedAccumulator::~ScopedAccumulator() {
+  std::vector<AccumulatorEntry>& list = entries();
+  for (auto it = list.rbegin(); it != list.rend(); ++it)
+    if (it->key == entry_.key && it->make == entry_.make) {
+      list.erase(std::next(it).base());
+      return;
+    }
 }
 
 }  // namespace ratchet

@@ -1,7 +1,7 @@
 // The list of accumulators a run has (run/accumulator.hpp), one registration each: a
 // new per-cycle observable is its measurement in observe/, its accumulator here in
-// run/, and one line in accumulators.cpp. The list's order is the order of the columns
-// in timeseries.csv and cycles.csv.
+// run/, and one line in accumulators.cpp (a test's, one ScopedAccumulator). The list's
+// order is the order of the columns in timeseries.csv and cycles.csv.
 #pragma once
 
 #include <memory>
@@ -19,22 +19,31 @@ struct AccumulatorEntry {
   AccumulatorFactory make;
 };
 
-// The engine's accumulators, then those registered.
+// The engine's accumulators, then those of the ScopedAccumulators alive.
 const std::vector<AccumulatorEntry>& accumulator_entries();
 
-// Appends an accumulator to every run of this program (from a static initializer: a
-// test's throwaway observable). Returns true.
-bool register_accumulator(const AccumulatorEntry& entry);
+// Adds an accumulator to the runs made while the guard lives and takes it out when the
+// guard goes: a test's throwaway observable reaches no other run of its test program.
+class ScopedAccumulator {
+ public:
+  explicit ScopedAccumulator(const AccumulatorEntry& entry);
+  ~ScopedAccumulator();
+  ScopedAccumulator(const ScopedAccumulator&) = delete;
+  ScopedAccumulator& operator=(const ScopedAccumulator&) = delete;
 
-// The same for an accumulator A made from the setup, or default-constructed.
+ private:
+  AccumulatorEntry entry_;
+};
+
+// The guard for an accumulator A made from the setup, or default-constructed.
 template <class A>
-bool register_accumulator(const char* key) {
-  return register_accumulator({key, [](const ObserverSetup& setup) -> std::unique_ptr<Accumulator> {
-                                 if constexpr (std::is_constructible_v<A, const ObserverSetup&>)
-                                   return std::make_unique<A>(setup);
-                                 else
-                                   return std::make_unique<A>();
-                               }});
+ScopedAccumulator scoped_accumulator(const char* key) {
+  return ScopedAccumulator({key, [](const ObserverSetup& setup) -> std::unique_ptr<Accumulator> {
+                              if constexpr (std::is_constructible_v<A, const ObserverSetup&>)
+                                return std::make_unique<A>(setup);
+                              else
+                                return std::make_unique<A>();
+                            }});
 }
 
 }  // namespace ratchet

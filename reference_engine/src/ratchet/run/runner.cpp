@@ -29,6 +29,10 @@ namespace ratchet {
 
 namespace {
 
+// Seconds between redraws of the progress line on a terminal: often enough to look live,
+// rarely enough to cost nothing (a log file gets a line every RunOptions::log_every).
+constexpr double kTtyRedraw = 0.5;
+
 std::string format_seconds(double s) {
   char buf[32];
   if (s >= 3600) std::snprintf(buf, sizeof buf, "%dh%02dm", static_cast<int>(s / 3600), static_cast<int>(s / 60) % 60);
@@ -208,7 +212,7 @@ RunResult run_world(World& world, const RunOptions& options, const std::function
       if (options.progress) {
         const auto now = std::chrono::steady_clock::now();
         const double since = std::chrono::duration<double>(now - last_print).count();
-        const bool due = k == total || (tty ? since > 0.5 : options.log_every > 0.0 && since >= options.log_every);
+        const bool due = k == total || (tty ? since > kTtyRedraw : options.log_every > 0.0 && since >= options.log_every);
         if (due) {
           last_print = now;
           const double el = std::chrono::duration<double>(now - start).count();

@@ -8,6 +8,7 @@
 //            slide with lambda_t = -mu lambda_n u_t / |u_t| on its surface.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 
 #include "ratchet/core/types.hpp"
@@ -71,6 +72,26 @@ inline Vec3 project_onto_cone(Vec3 l, double mu) {
     const double f = lt > 0.0 ? cap / lt : 0.0;
     l[1] *= f;
     l[2] *= f;
+  }
+  return l;
+}
+
+// The warm start's clip of a kept impulse onto the cone (World::warm_start): the clip of
+// project_onto_cone, with |lambda_t| taken by hypot and a tangent of +0 at a zero cap.
+// Not project_onto_cone because the two round differently (hypot against sqrt of the
+// sum of squares, and the sign of a zero tangent): one function would move the last bit
+// of a clipped impulse, and so every warm-started run and the golden data, for no
+// physical difference.
+inline Vec3 clip_kept_impulse(Vec3 l, double mu) {
+  l[0] = std::max(0.0, l[0]);
+  const double lt = std::hypot(l[1], l[2]), cap = mu * l[0];
+  if (lt > cap) {
+    l[1] *= cap / lt;
+    l[2] *= cap / lt;
+  }
+  if (cap == 0.0) {
+    l[1] = 0.0;
+    l[2] = 0.0;
   }
   return l;
 }

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "ratchet/solver/local_coulomb.hpp"
 #include "ratchet/world/test_hooks.hpp"
 #include "ratchet/world/world.hpp"
 
@@ -142,18 +143,9 @@ void World::warm_start(SolverBodies& bodies) {
                                [](const KeptImpulse& x, const ContactKey& y) { return x.key < y; });
     if (it == state_.impulses.end() || !(it->key == key)) continue;
     const Vec3& P = it->impulse;
-    const double ln = std::max(0.0, c.geometry.normal.dot(P));
-    Vec3 lambda(ln, 0.0, 0.0);
-    if (friction_on_) {
-      // Not project_onto_cone (solver/local_coulomb.hpp): its sqrt(l1^2 + l2^2) and this
-      // hypot round differently, and the warm start has always clipped with hypot.
-      double l1 = c.t1.dot(P), l2 = c.t2.dot(P);
-      const double lt = std::hypot(l1, l2), cap = c.mu * ln;
-      if (lt > cap) { l1 *= cap / lt; l2 *= cap / lt; }
-      if (cap == 0.0) { l1 = 0.0; l2 = 0.0; }
-      lambda[1] = l1;
-      lambda[2] = l2;
-    }
+    const Vec3 lambda = friction_on_
+                            ? clip_kept_impulse(Vec3(c.geometry.normal.dot(P), c.t1.dot(P), c.t2.dot(P)), c.mu)
+                            : Vec3(std::max(0.0, c.geometry.normal.dot(P)), 0.0, 0.0);
     s.rows[k].lambda = lambda;
     apply_local_impulse(s.rows[k], lambda, arrays_of(bodies), rotation_on_);
   }

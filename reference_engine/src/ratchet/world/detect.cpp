@@ -28,6 +28,7 @@ void World::prepare_bodies() {
   s.vertex_offset.resize(n);
   s.centers.resize(n);
   s.radii.resize(n);
+  s.placed.resize(n);
   int total = 0;
   for (std::size_t i = 0; i < n; ++i) {
     const int count = placed_vertex_count(scene_, scene_.bodies[i]);
@@ -51,30 +52,10 @@ void World::prepare_bodies() {
     }
     s.centers[i] = state_.x[i];
     s.radii[i] = b.bounding_radius * sc;
-    if (s.vertex_offset[i] >= 0) {
-      const auto& verts = scene_.shapes[static_cast<std::size_t>(b.shape)].vertices;
-      Vec3* out = &s.world_vertices[static_cast<std::size_t>(s.vertex_offset[i])];
-      for (std::size_t k = 0; k < verts.size(); ++k) out[k] = state_.x[i] + sc * (s.R[i] * verts[k]);
-    }
+    const int offset = s.vertex_offset[i];
+    Vec3* vertices = offset >= 0 ? &s.world_vertices[static_cast<std::size_t>(offset)] : nullptr;
+    s.placed[i] = place_collision_body(scene_, b, state_.x[i], s.R[i], sc, vertices);
   }
-}
-
-CollisionBody World::collision_body(int i) const {
-  const StepScratch& s = scratch_;
-  const BodyDef& b = scene_.bodies[static_cast<std::size_t>(i)];
-  CollisionBody c;
-  c.kind = b.kind;
-  c.center = state_.x[static_cast<std::size_t>(i)];
-  c.radius = b.radius * body_scale(i);
-  const int offset = s.vertex_offset[static_cast<std::size_t>(i)];
-  if (offset >= 0) {
-    c.poly.shape = &scene_.shapes[static_cast<std::size_t>(b.shape)];
-    c.poly.world_vertices = &s.world_vertices[static_cast<std::size_t>(offset)];
-    c.poly.center = c.center;
-    c.poly.R = s.R[static_cast<std::size_t>(i)];
-    c.poly.scale = body_scale(i);
-  }
-  return c;
 }
 
 // Common planes of the last step, looked up by pair (both lists are sorted).
@@ -270,8 +251,9 @@ void World::detect() {
     ContactManifold& m = s.pair_manifolds[static_cast<std::size_t>(k)];
     m.count = 0;
     if (scene_.bodies[static_cast<std::size_t>(a)].fixed && scene_.bodies[static_cast<std::size_t>(b)].fixed) continue;
-    const CollisionBody ca = collision_body(a), cb = collision_body(b);
-    if (reuse && ca.kind == ShapeKind::Polyhedron && cb.kind == ShapeKind::Polyhedron) collide_reusing(k, ca, cb);
+    const CollisionBody& ca = s.placed[static_cast<std::size_t>(a)];
+    const CollisionBody& cb = s.placed[static_cast<std::size_t>(b)];
+    if (reuse && manifold_reusable(ca, cb)) collide_reusing(k, ca, cb);
     else collide_pair(ca, cb, margin, s.pair_planes[static_cast<std::size_t>(k)], m);
   }
   store_pair_planes();
@@ -286,7 +268,7 @@ void World::detect() {
 #pragma omp parallel for schedule(dynamic, 64) if (nwp > kParallelMin)
   for (int k = 0; k < nwp; ++k) {
     const int i = s.wall_pairs[static_cast<std::size_t>(k)].first, w = s.wall_pairs[static_cast<std::size_t>(k)].second;
-    collide_wall(collision_body(i), scene_.container.walls[static_cast<std::size_t>(w)].normal,
+    collide_wall(s.placed[static_cast<std::size_t>(i)], scene_.container.walls[static_cast<std::size_t>(w)].normal,
                  wall_points[static_cast<std::size_t>(w)], margin, s.wall_manifolds[static_cast<std::size_t>(k)]);
   }
   gather_contacts();

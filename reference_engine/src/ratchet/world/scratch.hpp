@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "ratchet/contact/broad_phase.hpp"
+#include "ratchet/contact/collide.hpp"
 #include "ratchet/contact/common_plane.hpp"
 #include "ratchet/contact/contact_point.hpp"
 #include "ratchet/contact/manifold_reuse.hpp"
@@ -42,6 +43,7 @@ struct StepScratch {
   std::vector<double> scale;       // thermal scale per body (s_p, or 1 for a fixed body)
   std::vector<int> vertex_offset;  // into world_vertices, -1 for spheres
   std::vector<Vec3> world_vertices;
+  std::vector<CollisionBody> placed;  // per body, as the narrow phase sees it (points into world_vertices)
   std::vector<Vec3> centers;
   std::vector<double> radii;       // current bounding radii
   std::vector<BodyPair> pairs;

@@ -104,7 +104,6 @@ class World {
 
   // detect (world/detect.cpp)
   void prepare_bodies();
-  CollisionBody collision_body(int i) const;
   void load_pair_planes();
   void store_pair_planes();
   void load_pair_manifolds();
