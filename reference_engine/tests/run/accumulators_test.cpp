@@ -51,6 +51,18 @@ SceneDef two_short_cycles() {
 
 using test::lines_of;
 
+// The rows of cycles.csv of a whole run of two_short_cycles().
+std::vector<std::string> cycles_csv_of_a_run() {
+  const fs::path d = test::fresh_dir("ratchet_accumulators");
+  World world(two_short_cycles());
+  RunOptions opt;
+  opt.out_dir = d.string();
+  run_world(world, opt);
+  std::vector<std::string> rows = lines_of(d / "cycles.csv");
+  fs::remove_all(d);
+  return rows;
+}
+
 TEST(Accumulators, TheEnginesComeFirstInColumnOrderThenTheRegistered) {
   const ScopedAccumulator registered = scoped_accumulator<StepsPerCycle>("steps_per_cycle");
   const std::vector<AccumulatorEntry>& list = accumulator_entries();
@@ -61,18 +73,12 @@ TEST(Accumulators, TheEnginesComeFirstInColumnOrderThenTheRegistered) {
 
 TEST(Accumulators, ARegisteredObservableAppearsInCyclesCsv) {
   const ScopedAccumulator registered = scoped_accumulator<StepsPerCycle>("steps_per_cycle");
-  const fs::path d = test::fresh_dir("ratchet_accumulators");
-  World world(two_short_cycles());
-  RunOptions opt;
-  opt.out_dir = d.string();
-  run_world(world, opt);
-  const std::vector<std::string> rows = lines_of(d / "cycles.csv");
+  const std::vector<std::string> rows = cycles_csv_of_a_run();
   ASSERT_EQ(rows.size(), 3u);
   EXPECT_EQ(rows[0],
             "cycle,peak_pressure,t_peak,V_over_V0_end_heating,V_over_V0_end_cooling,contacts_mean,iterations_mean,"
             "unconverged_steps,steps_in_cycle");
   for (const std::string& row : {rows[1], rows[2]}) EXPECT_EQ(row.substr(row.rfind(',') + 1), "30") << row;
-  fs::remove_all(d);
 }
 
 // Saved after 45 steps (10 before cycling, 30 of cycle 0, 5 of cycle 1), restored into
@@ -110,17 +116,12 @@ TEST(Accumulators, AnObservableIsGoneWithItsGuard) {
     ASSERT_EQ(accumulator_entries().size(), engines + 1);
   }
   ASSERT_EQ(accumulator_entries().size(), engines);
-  const fs::path d = test::fresh_dir("ratchet_accumulators");
-  World world(two_short_cycles());
-  RunOptions opt;
-  opt.out_dir = d.string();
-  run_world(world, opt);
-  const std::vector<std::string> rows = lines_of(d / "cycles.csv");
+  const std::vector<std::string> rows = cycles_csv_of_a_run();
   ASSERT_EQ(rows.size(), 3u);
   EXPECT_EQ(rows[0].find("steps_in_cycle"), std::string::npos) << rows[0];
   EXPECT_EQ(rows[0].substr(rows[0].rfind(',') + 1), "unconverged_steps");
+  World world(two_short_cycles());
   EXPECT_FALSE(RunObservers(world, "").save().contains("steps_per_cycle"));
-  fs::remove_all(d);
 }
 
 }  // namespace
