@@ -32,7 +32,8 @@ std::string json_error_text(const nlohmann::json::exception& e) {
 
 nlohmann::json read_json_file(const std::string& path, const std::string& what) {
   std::ifstream in(path);
-  if (!in || fs::is_directory(path)) throw JsonFileError(path + ": cannot open the " + what + " (" + unreadable_reason(path) + ")");
+  std::error_code ec;  // is_directory without it throws where the status cannot be read
+  if (!in || fs::is_directory(path, ec)) throw JsonFileError(path + ": cannot open the " + what + " (" + unreadable_reason(path) + ")");
   try {
     return nlohmann::json::parse(in, nullptr, true, /*ignore_comments=*/true);
   } catch (const nlohmann::json::exception& e) {  // parse_error, or out_of_range for a number beyond a double
