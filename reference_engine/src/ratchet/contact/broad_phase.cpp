@@ -37,9 +37,8 @@ void find_candidate_pairs(const std::vector<Vec3>& centers, const std::vector<do
                                           static_cast<std::int64_t>(std::floor(c.z()))};
   }
   auto test = [&](int i, int j) {
-    const double reach = radii[static_cast<std::size_t>(i)] + radii[static_cast<std::size_t>(j)] + margin;
-    if ((centers[static_cast<std::size_t>(i)] - centers[static_cast<std::size_t>(j)]).squaredNorm() <= reach * reach)
-      pairs.emplace_back(i, j);
+    const std::size_t a = static_cast<std::size_t>(i), b = static_cast<std::size_t>(j);
+    if (within_reach(centers[a], centers[b], radii[a], radii[b], margin)) pairs.emplace_back(i, j);
   };
   const Vec3 span = (hi - lo) / cell;
   const double dense_cells = (std::floor(span.x()) + 1.0) * (std::floor(span.y()) + 1.0) * (std::floor(span.z()) + 1.0);

@@ -18,6 +18,47 @@ namespace {
 constexpr double kTikhonovRel = 1e-10;
 constexpr double kTikhonovFloor = 1e-300;
 
+// The pass of plan() that makes the new column of dF and dG and its dot products, over
+// entries [i0, i1): out[0] = the column . f_{k-1}, out[1 + b] = the column . column b.
+// Every sum is accumulated entry by entry in order, whatever the depth: the same bits
+// from the template (depth known, sums kept in registers) and from the loop below.
+struct NewColumn {
+  const double *f, *f_prev, *g, *g_prev;
+  double *cf, *cg;             // the new columns (cf is also one of cols)
+  const double* const* cols;   // the dF columns, the new one included
+};
+
+template <int M>
+void new_column_block(const NewColumn& p, std::size_t i0, std::size_t i1, double* out) {
+  double dots[M] = {};
+  const double* cols[M];
+  for (int b = 0; b < M; ++b) cols[b] = p.cols[b];
+  double with_prev = 0.0;
+  for (std::size_t i = i0; i < i1; ++i) {
+    const double c = p.f[i] - p.f_prev[i];
+    p.cf[i] = c;
+    p.cg[i] = p.g[i] - p.g_prev[i];
+    with_prev += c * p.f_prev[i];
+    for (int b = 0; b < M; ++b) dots[b] += c * cols[b][i];  // the new column: c * c
+  }
+  out[0] = with_prev;
+  for (int b = 0; b < M; ++b) out[1 + b] = dots[b];
+}
+
+void new_column_block_any(const NewColumn& p, int m, std::size_t i0, std::size_t i1, double* out) {
+  double dots[kMaxAndersonDepth] = {};
+  double with_prev = 0.0;
+  for (std::size_t i = i0; i < i1; ++i) {
+    const double c = p.f[i] - p.f_prev[i];
+    p.cf[i] = c;
+    p.cg[i] = p.g[i] - p.g_prev[i];
+    with_prev += c * p.f_prev[i];
+    for (int b = 0; b < m; ++b) dots[b] += c * p.cols[b][i];
+  }
+  out[0] = with_prev;
+  for (int b = 0; b < m; ++b) out[1 + b] = dots[b];
+}
+
 }  // namespace
 
 double* AndersonMixer::record_buffer(std::size_t rows, bool after) {
@@ -39,26 +80,34 @@ void AndersonMixer::record_velocities(const std::vector<Vec3>& v, const std::vec
 
 void AndersonMixer::extrapolated_velocities(std::vector<Vec3>& v, std::vector<Vec3>& w) const {
   const std::size_t n = v.size();
+  // Column by column, each entry minus its products in the order of the columns: the
+  // same operations on each entry as one entry at a time, as plain streaming loops.
+  std::vector<double>& x = vel_mix_;
+  x.assign(vel_prev_.begin(), vel_prev_.begin() + static_cast<std::ptrdiff_t>(6 * n));  // velocities of G(x_k)
+  subtract_columns(x.data(), 6 * n, n > static_cast<std::size_t>(parallel_min_rows_ / 4), vcols_);
 #pragma omp parallel for schedule(static) if (static_cast<int>(n) > parallel_min_rows_ / 4)
   for (std::size_t i = 0; i < n; ++i)
-    for (int j = 0; j < 6; ++j) {
-      const std::size_t k = 6 * i + static_cast<std::size_t>(j);
-      double x = vel_prev_[k];  // the velocities of G(x_k), swapped in by plan()
-      for (int a = 0; a < count_; ++a) x -= gamma_[a] * vcols_[a][k];
-      if (j < 3) v[i][j] = x; else w[i][j - 3] = x;
+    for (int j = 0; j < 3; ++j) {
+      v[i][j] = x[6 * i + static_cast<std::size_t>(j)];
+      w[i][j] = x[6 * i + 3 + static_cast<std::size_t>(j)];
     }
 }
 
-Vec3 AndersonMixer::unprojected(std::size_t k) const {
-  Vec3 l;
-  for (int j = 0; j < 3; ++j) {
-    const std::size_t i = 3 * k + static_cast<std::size_t>(j);
-    double v = g_prev_[i];  // G(x_k), swapped in by plan()
-    for (int a = 0; a < count_; ++a) v -= gamma_[a] * gcols_[a][i];
-    l[j] = v;
+void AndersonMixer::subtract_columns(double* x, std::size_t n, bool parallel, const double* const* cols) const {
+  const int nblocks = static_cast<int>((n + 3 * kBlock - 1) / (3 * kBlock));
+#pragma omp parallel for schedule(static) if (parallel)
+  for (int blk = 0; blk < nblocks; ++blk) {
+    const std::size_t i0 = 3 * kBlock * static_cast<std::size_t>(blk), i1 = std::min(n, i0 + 3 * kBlock);
+    double* __restrict xb = x;  // never one of the columns: lets the loop use packed operations
+    for (int a = 0; a < count_; ++a) {
+      const double ga = gamma_[a];
+      const double* __restrict col = cols[a];
+      for (std::size_t i = i0; i < i1; ++i) xb[i] -= ga * col[i];
+    }
   }
-  return l;
 }
+
+Vec3 AndersonMixer::unprojected(std::size_t k) const { return Vec3(raw_[3 * k], raw_[3 * k + 1], raw_[3 * k + 2]); }
 
 Vec3 AndersonMixer::extrapolated(std::size_t k, double mu) const { return project_onto_cone(unprojected(k), mu); }
 
@@ -122,19 +171,18 @@ bool AndersonMixer::plan(const std::vector<SolverRow>& rows) {
     const std::size_t stride = kMaxDepth + 2;
 #pragma omp parallel for schedule(static) if (parallel)
     for (int blk = 0; blk < nblocks; ++blk) {
-      double dots[kMaxDepth] = {};
-      double with_prev = 0.0;
+      const std::size_t i0 = 3 * static_cast<std::size_t>(blk) * kBlock;
       const std::size_t i1 = 3 * std::min(rows_n, (static_cast<std::size_t>(blk) + 1) * kBlock);
-      for (std::size_t i = 3 * static_cast<std::size_t>(blk) * kBlock; i < i1; ++i) {
-        const double c = f_[i] - f_prev_[i];
-        cfp[i] = c;
-        cgp[i] = g_[i] - g_prev_[i];
-        with_prev += c * f_prev_[i];
-        for (int b = 0; b < m; ++b) dots[b] += c * cols[b][i];  // cols[h] is cfp: c * c
-      }
+      const NewColumn pass{f_.data(), f_prev_.data(), g_.data(), g_prev_.data(), cfp, cgp, cols};
       double* out = part + static_cast<std::size_t>(blk) * stride;
-      out[0] = with_prev;
-      for (int b = 0; b < m; ++b) out[1 + b] = dots[b];
+      switch (m) {  // the usual depths with the sums in registers
+        case 1: new_column_block<1>(pass, i0, i1, out); break;
+        case 2: new_column_block<2>(pass, i0, i1, out); break;
+        case 3: new_column_block<3>(pass, i0, i1, out); break;
+        case 4: new_column_block<4>(pass, i0, i1, out); break;
+        case 5: new_column_block<5>(pass, i0, i1, out); break;
+        default: new_column_block_any(pass, m, i0, i1, out);
+      }
     }
     double dots[kMaxDepth] = {};
     double with_prev = 0.0;
@@ -177,6 +225,8 @@ bool AndersonMixer::plan(const std::vector<SolverRow>& rows) {
     gcols_[a] = dG_[static_cast<std::size_t>(a)].data();
     vcols_[a] = dV_[static_cast<std::size_t>(a)].data();
   }
+  raw_ = g_prev_;  // G(x_k), minus the mix of the dG columns
+  subtract_columns(raw_.data(), n, parallel, gcols_);
   return true;
 }
 

@@ -59,9 +59,14 @@ class AndersonMixer {
   Eigen::VectorXd rhs_;                       // dF^T f_k
   std::vector<double> weight_;                // sqrt(W_nn) per row
   std::vector<double> partial_;               // per block: the sums of a pass
+  std::vector<double> raw_;                   // the last plan's unprojected impulses (3 per row)
+  mutable std::vector<double> vel_mix_;       // scratch of extrapolated_velocities (6 per body)
   double gamma_[kMaxDepth] = {};              // the last plan's coefficients
   const double* gcols_[kMaxDepth] = {};       // and the dG columns they weigh
   const double* vcols_[kMaxDepth] = {};       // and the dV columns
+  // x[i] -= sum over the plan's columns of gamma_a cols[a][i], in column order, in
+  // blocks of 3 kBlock entries (in parallel if asked).
+  void subtract_columns(double* x, std::size_t n, bool parallel, const double* const* cols) const;
   int count_ = 0, head_ = 0;
   bool have_prev_ = false;
   double fnorm_prev_ = 0.0;

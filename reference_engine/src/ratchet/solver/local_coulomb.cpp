@@ -20,9 +20,9 @@ constexpr int kBisectionSteps = 60;  // 2 pi / 256 halved 60 times: 2e-20 rad, m
 // Sliding solution for a given friction direction d (unit, in the tangent plane):
 // lambda_t = mu lambda_n d and u_n = 0 fix lambda_n; returns the tangential velocity.
 struct SlideTrial {
-  double lambda_n;
-  Eigen::Vector2d u_t;
-  bool valid;
+  double lambda_n = 0.0;
+  Eigen::Vector2d u_t = Eigen::Vector2d::Zero();
+  bool valid = false;
 };
 
 SlideTrial slide_trial(const Mat3& W, const Vec3& w, double mu, const Eigen::Vector2d& d) {
@@ -53,8 +53,9 @@ double slide_residual(const SlideTrial& s, const Eigen::Vector2d& d) {
 // sin/cos is evaluated (they took a third of the local solve). Converges in a few steps
 // where the fixed point is not contractive (u_t small against the coupling mu W_tt near
 // the stick boundary). True, with the direction in da, when it ends at an admissible
-// sliding direction (lambda_n >= 0, u_t against d).
-bool newton_slide(const Mat3& W, const Vec3& w, double mu, const Eigen::Vector2d& start, Eigen::Vector2d& da) {
+// sliding direction (lambda_n >= 0, u_t against d); t is then the slide trial of da.
+bool newton_slide(const Mat3& W, const Vec3& w, double mu, const Eigen::Vector2d& start, Eigen::Vector2d& da,
+                  SlideTrial& t) {
   const Eigen::Vector2d W_nt(W(0, 1), W(0, 2)), W_tn(W(1, 0), W(2, 0));
   Eigen::Matrix2d W_tt;
   W_tt << W(1, 1), W(1, 2), W(2, 1), W(2, 2);
@@ -85,7 +86,7 @@ bool newton_slide(const Mat3& W, const Vec3& w, double mu, const Eigen::Vector2d
     if (step < kNewtonStepTol || (step < kNewtonSmallStep && step >= last_step)) break;
     last_step = step;
   }
-  const SlideTrial t = slide_trial(W, w, mu, da);
+  t = slide_trial(W, w, mu, da);
   return t.valid && t.lambda_n >= 0.0 && t.u_t.dot(da) < 0.0 && t.u_t.norm() > 0.0 &&
          std::abs(slide_residual(t, da)) < kAdmissibleResidual;
 }
@@ -101,11 +102,11 @@ LocalSolution detail::solve_local_slide(const Mat3& W, const Vec3& w, double mu,
   LocalSolution sol;
   sol.status = LocalStatus::Slide;
   Eigen::Vector2d da;
+  SlideTrial f;
   // From the direction the contact slid in at its last solve: in a sweep that is nearly
   // converged Newton lands on the same admissible root in one or two steps. Any other
   // outcome goes the cold way below, unchanged.
-  if (hint != nullptr && newton_slide(W, w, mu, *hint, da)) {
-    const SlideTrial f = slide_trial(W, w, mu, da);
+  if (hint != nullptr && newton_slide(W, w, mu, *hint, da, f)) {
     sol.lambda = Vec3(f.lambda_n, mu * f.lambda_n * da.x(), mu * f.lambda_n * da.y());
     return sol;
   }
@@ -132,8 +133,7 @@ LocalSolution detail::solve_local_slide(const Mat3& W, const Vec3& w, double mu,
     }
     d = d_next;
   }
-  if (newton_slide(W, w, mu, d0, da)) {
-    const SlideTrial f = slide_trial(W, w, mu, da);
+  if (newton_slide(W, w, mu, d0, da, f)) {
     sol.lambda = Vec3(f.lambda_n, mu * f.lambda_n * da.x(), mu * f.lambda_n * da.y());
     return sol;
   }

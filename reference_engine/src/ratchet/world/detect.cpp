@@ -15,6 +15,9 @@ namespace {
 
 // Below this many bodies or pairs a parallel region costs more than it saves.
 constexpr int kParallelMin = 256;
+// The skin of the kept pair list, in units of the largest bounding radius: a cycled bed
+// moves about 1e-4 of it per step, so the grid is searched every few hundred steps.
+constexpr double kPairSkin = 0.1;
 
 }  // namespace
 
@@ -237,7 +240,12 @@ void World::detect() {
   prepare_bodies();
   StepScratch& s = scratch_;
   const double margin = scene_.solver.contact_margin;
-  find_candidate_pairs(s.centers, s.radii, margin, s.pairs);
+  if (s.pair_skin < 0.0) {
+    double r_max = 0.0;
+    for (const BodyDef& b : scene_.bodies) r_max = std::max(r_max, b.bounding_radius);
+    s.pair_skin = kPairSkin * (r_max > 0.0 ? r_max : 1.0);
+  }
+  s.pair_list.find(s.centers, s.radii, margin, s.pair_skin, s.pairs);
   s.pair_manifolds.resize(s.pairs.size());  // every slot's count is set below
   const int np = static_cast<int>(s.pairs.size());
   load_pair_planes();

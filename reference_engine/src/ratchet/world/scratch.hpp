@@ -9,6 +9,7 @@
 #include "ratchet/contact/common_plane.hpp"
 #include "ratchet/contact/contact_point.hpp"
 #include "ratchet/contact/manifold_reuse.hpp"
+#include "ratchet/contact/pair_list.hpp"
 #include "ratchet/scene/scene.hpp"
 #include "ratchet/solver/nsgs.hpp"
 #include "ratchet/thermal/thermal_protocol.hpp"
@@ -47,6 +48,10 @@ struct StepScratch {
   std::vector<Vec3> centers;
   std::vector<double> radii;       // current bounding radii
   std::vector<BodyPair> pairs;
+  // Kept from step to step, unlike the rest: the broad phase's wider list, which only
+  // saves grid searches (the pairs are the same with or without it).
+  CandidatePairList pair_list;
+  double pair_skin = -1.0;         // its skin (world/detect.cpp), set at the first step
   std::vector<ContactManifold> pair_manifolds;
   std::vector<CommonPlaneCache> pair_planes;    // per candidate pair (polyhedron pairs only)
   std::vector<int> pair_kept;                   // per candidate pair: its kept manifold in the state, or -1
