@@ -5,6 +5,7 @@
 // centres, no World.
 #pragma once
 
+#include <cmath>
 #include <vector>
 
 #include "ratchet/core/types.hpp"
@@ -21,6 +22,15 @@ struct DisplacementField {
   std::vector<int> count;      // particles averaged in the cell
   int index(int ir, int iz) const { return iz * nr + ir; }
 };
+
+// Radial cells of the fields' grid in a container of this bottom radius: the grid
+// reaches 1.5 bottom radii, room for the wall of an opened cone above the bottom (at
+// 8 degrees the paper bed's top is 1.34 bottom radii wide). The cycle windows and the
+// stage fields share it (run/displacement_windows.cpp, run/stage_fields.cpp).
+inline int radial_cells(double bottom_radius, double cell) {
+  const int n = static_cast<int>(std::ceil(1.5 * bottom_radius / cell));
+  return n > 1 ? n : 1;
+}
 
 // Displacement d = positions_b[i] - positions_a[i] of each particle (same ids in both
 // snapshots), in cylindrical components about the z axis at the particle's position at

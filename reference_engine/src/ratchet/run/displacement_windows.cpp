@@ -35,8 +35,7 @@ void DisplacementWindows::restore(const nlohmann::json& j) {
 void DisplacementWindows::finish(const std::string& out_dir, nlohmann::json& summary) const {
   if (!enabled()) return;
   const double cell = scene_.outputs.displacement_cell;
-  const double r_extent = 1.5 * scene_.container.bottom_radius;
-  const int nr = static_cast<int>(std::ceil(r_extent / cell));
+  const int nr = radial_cells(scene_.container.bottom_radius, cell);
   for (const auto& [a, b] : scene_.outputs.displacement_windows) {
     const std::string key = "W_rms_" + std::to_string(a) + "_" + std::to_string(b);
     if (b >= static_cast<int>(snapshots_.size())) {

@@ -33,7 +33,7 @@ void StageFields::start_cycle(const std::vector<Vec3>& x, int cycle) {
     const double cell = scene_.outputs.displacement_cell;
     double top = 0.0;
     for (const Vec3& p : x) top = std::max(top, p.z());
-    nr_ = std::max(1, static_cast<int>(std::ceil(1.5 * scene_.container.bottom_radius / cell)));
+    nr_ = radial_cells(scene_.container.bottom_radius, cell);
     nz_ = std::max(1, static_cast<int>(std::ceil((top + cell) / cell)));
   }
   start_ = x;
