@@ -28,35 +28,24 @@ struct NewColumn {
   const double* const* cols;   // the dF columns, the new one included
 };
 
+// M > 0: the depth known when compiled (the sums stay in registers); M = 0: any depth m.
 template <int M>
-void new_column_block(const NewColumn& p, std::size_t i0, std::size_t i1, double* out) {
-  double dots[M] = {};
-  const double* cols[M];
-  for (int b = 0; b < M; ++b) cols[b] = p.cols[b];
+void new_column_block(const NewColumn& p, int m, std::size_t i0, std::size_t i1, double* out) {
+  constexpr int kSlots = M > 0 ? M : kMaxAndersonDepth;
+  const int count = M > 0 ? M : m;
+  double dots[kSlots] = {};
+  const double* cols[kSlots];
+  for (int b = 0; b < count; ++b) cols[b] = p.cols[b];
   double with_prev = 0.0;
   for (std::size_t i = i0; i < i1; ++i) {
     const double c = p.f[i] - p.f_prev[i];
     p.cf[i] = c;
     p.cg[i] = p.g[i] - p.g_prev[i];
     with_prev += c * p.f_prev[i];
-    for (int b = 0; b < M; ++b) dots[b] += c * cols[b][i];  // the new column: c * c
+    for (int b = 0; b < count; ++b) dots[b] += c * cols[b][i];  // the new column: c * c
   }
   out[0] = with_prev;
-  for (int b = 0; b < M; ++b) out[1 + b] = dots[b];
-}
-
-void new_column_block_any(const NewColumn& p, int m, std::size_t i0, std::size_t i1, double* out) {
-  double dots[kMaxAndersonDepth] = {};
-  double with_prev = 0.0;
-  for (std::size_t i = i0; i < i1; ++i) {
-    const double c = p.f[i] - p.f_prev[i];
-    p.cf[i] = c;
-    p.cg[i] = p.g[i] - p.g_prev[i];
-    with_prev += c * p.f_prev[i];
-    for (int b = 0; b < m; ++b) dots[b] += c * p.cols[b][i];
-  }
-  out[0] = with_prev;
-  for (int b = 0; b < m; ++b) out[1 + b] = dots[b];
+  for (int b = 0; b < count; ++b) out[1 + b] = dots[b];
 }
 
 }  // namespace
@@ -176,12 +165,12 @@ bool AndersonMixer::plan(const std::vector<SolverRow>& rows) {
       const NewColumn pass{f_.data(), f_prev_.data(), g_.data(), g_prev_.data(), cfp, cgp, cols};
       double* out = part + static_cast<std::size_t>(blk) * stride;
       switch (m) {  // the usual depths with the sums in registers
-        case 1: new_column_block<1>(pass, i0, i1, out); break;
-        case 2: new_column_block<2>(pass, i0, i1, out); break;
-        case 3: new_column_block<3>(pass, i0, i1, out); break;
-        case 4: new_column_block<4>(pass, i0, i1, out); break;
-        case 5: new_column_block<5>(pass, i0, i1, out); break;
-        default: new_column_block_any(pass, m, i0, i1, out);
+        case 1: new_column_block<1>(pass, m, i0, i1, out); break;
+        case 2: new_column_block<2>(pass, m, i0, i1, out); break;
+        case 3: new_column_block<3>(pass, m, i0, i1, out); break;
+        case 4: new_column_block<4>(pass, m, i0, i1, out); break;
+        case 5: new_column_block<5>(pass, m, i0, i1, out); break;
+        default: new_column_block<0>(pass, m, i0, i1, out);
       }
     }
     double dots[kMaxDepth] = {};
