@@ -1,6 +1,6 @@
 // The same scene and seed give the same bytes on any number of threads: a bed of
 // polyhedra poured and settled once, then heated and cooled from that packing (compliant
-// Anderson sweeps as the tiers) on 1, 2, 3 and 8 threads, with the solve's parallel loops
+// Anderson sweeps and manifold replay as the paper tier) on 1, 2, 3 and 8 threads, with the solve's parallel loops
 // forced on at any size (world/test_hooks.hpp) so that the coloured sweep, the Anderson
 // passes and the row build all split their work. timeseries.csv is compared without its
 // time_* columns, the wall-clock time of each phase. (The pour runs the same code; it is
@@ -29,7 +29,8 @@ using test::without_timing_columns;
 json cycled_bed() {
   return json::parse(R"({
     "name": "threads", "seed": 9, "time": {"dt": 0.004},
-    "solver": {"tolerance": 1e-4, "max_iterations": 2000, "acceleration": "anderson", "compliance": 0.1},
+    "solver": {"tolerance": 1e-4, "max_iterations": 2000, "acceleration": "anderson", "compliance": 0.1,
+               "manifold_reuse": 0.002},
     "container": {"type": "cone", "bottom_radius": 3.0, "opening_angle_deg": 4.0, "segments": 8},
     "particles": {"generate": {"count": 50, "shape": "polyhedron", "vertices": 12, "radius_range": [0.3, 0.5]}},
     "settle": {"ke_ratio": 1e-2, "max_time": 10.0},
