@@ -56,6 +56,18 @@ def positive(name):
     return parse
 
 
+def non_negative(name):
+    def parse(text):
+        try:
+            value = float(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"{name}: expected a number >= 0, got '{text}'") from None
+        if not math.isfinite(value) or value < 0:
+            raise argparse.ArgumentTypeError(f"{name}: expected a number >= 0, got '{text}'")
+        return value
+    return parse
+
+
 def whole(text):
     if not text.isdigit() or int(text) < 1:
         raise argparse.ArgumentTypeError(f"--jobs: expected a whole number >= 1 (runs at a time), got '{text}'")
@@ -95,6 +107,10 @@ def parser() -> argparse.ArgumentParser:
     p.add_argument("--run-hours", type=positive("--run-hours"), metavar="H",
                    help="the estimated wall hours of one run (default: measured from stored runs, else the "
                         "plan's run_cost_hours)")
+    p.add_argument("--min-slice", type=non_negative("--min-slice"), default=15.0, metavar="MINUTES",
+                   help="a run that will not finish within the budget still starts while this much of it is "
+                        "left, and stops at a checkpoint for the next invocation (default 15; 0: only runs "
+                        "that fit start)")
     p.add_argument("--stop-margin", type=positive("--stop-margin"), metavar="SECONDS",
                    help="stop the engines this long before the budget ends (default 60, at most a tenth of "
                         "the budget)")
@@ -178,7 +194,7 @@ def print_status(plan, states, estimate, engine, golden_now, work, results) -> N
         f"{estimate.source})")
 
 
-def print_dry_run(states, estimate, budget, jobs) -> None:
+def print_dry_run(states, estimate, budget, jobs, min_slice) -> None:
     queue = state.todo(states)
     if not queue:
         say("dry run: nothing to run, every run of the plan is stored and current")
@@ -186,21 +202,28 @@ def print_dry_run(states, estimate, budget, jobs) -> None:
     say(f"dry run: {len(queue)} run(s) to do, in this order (a run: {state.hours(estimate.seconds)}, "
         f"{estimate.source})")
     slots = [0.0] * jobs   # when each slot is free, in seconds from now
-    fitting = 0
+    fitting = partial = 0
     for s in queue:
         need = estimate.seconds * (1.0 - s.progress.fraction)
         slot = min(range(jobs), key=lambda i: slots[i])
-        fits = budget is None or slots[slot] + need <= budget
+        begin = slots[slot]
+        fits = budget is None or begin + need <= budget
+        starts = fits or begin <= budget - min_slice
         if fits:
             slots[slot] += need
             fitting += 1
+        elif starts:
+            slots[slot] = budget
+            partial += 1
         why = f"; rerun of a stale result ({s.verdict.reason})" if s.stale else ""
-        when = f", would start at +{state.hours(slots[slot] - need)}" if fits and budget is not None else ""
-        mark = "" if fits else " [not within the budget]"
+        when = f", would start at +{state.hours(begin)}" if starts and budget is not None else ""
+        mark = "" if fits else (" [stops at a checkpoint when the budget ends]" if starts else
+                                " [not within the budget]")
         say(f"  {s.run.label:28s} {s.progress.text()}{why}{when}{mark}")
     if budget is not None:
-        say(f"dry run: {fitting} of {len(queue)} run(s) fit in {state.hours(budget)} with {jobs} at a time "
-            "(at the estimate; the real start of each is decided when a slot frees)")
+        say(f"dry run: {fitting} of {len(queue)} run(s) fit in {state.hours(budget)} with {jobs} at a time, "
+            f"{partial} more start and stop at a checkpoint (at the estimate; the real start of each is "
+            "decided when a slot frees)")
 
 
 def main(argv=None) -> int:
@@ -238,7 +261,7 @@ def main(argv=None) -> int:
         return 0
     budget = args.budget * 3600.0 if args.budget else None
     if args.dry_run:
-        print_dry_run(states, estimate, budget, args.jobs)
+        print_dry_run(states, estimate, budget, args.jobs, 60.0 * args.min_slice)
         return 0
 
     queue = state.todo(states)
@@ -263,7 +286,8 @@ def main(argv=None) -> int:
         f"run; budget {state.hours(budget)}, {args.jobs} at a time; a run is estimated at "
         f"{state.hours(estimate.seconds)} ({estimate.source}); engine {engine.short}")
     runner = Runner(plan, work, results, engine, golden_now, launcher_words(args.mpirun), args.jobs,
-                    estimate.seconds, budget, margin, args.progress_every, args.commit, say)
+                    estimate.seconds, budget, margin, args.progress_every, args.commit, say,
+                    min_slice=60.0 * args.min_slice)
     started = time.monotonic()
     outcome = runner.run(queue)
     states = state.survey(plan, work, results, engine, golden_now)

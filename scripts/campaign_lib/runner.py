@@ -1,6 +1,6 @@
 """Runs what is left of the plan within a time budget (docs/campaign.md, "Budget and
-stopping"): a run starts only when the budget's time left covers its estimated cost;
-when the budget ends (or on SIGTERM or SIGINT) every engine gets one SIGTERM, writes a
+stopping"): a run starts when the budget's time left covers its estimated cost, or
+when at least the minimum slice is left (it then stops at a checkpoint); when the budget ends (or on SIGTERM or SIGINT) every engine gets one SIGTERM, writes a
 checkpoint and exits, and the next invocation resumes from there."""
 
 from __future__ import annotations
@@ -59,10 +59,11 @@ class Outcome:
 class Runner:
     def __init__(self, plan: Plan, work: Path, results: Path, engine: Engine, golden_check: dict | None,
                  launcher: list, jobs: int, estimate_seconds: float, budget_seconds: float,
-                 stop_margin: float, progress_every: float, commit: bool, say):
+                 stop_margin: float, progress_every: float, commit: bool, say, min_slice: float = 0.0):
         self.plan, self.work, self.results, self.engine = plan, work, results, engine
         self.golden_check, self.launcher, self.jobs = golden_check, launcher, jobs
         self.estimate = estimate_seconds
+        self.min_slice = min_slice  # seconds of budget worth starting a run that will not finish in it
         self.start = time.monotonic()
         self.stop_at = self.start + budget_seconds - stop_margin
         self.grace = max(stop_margin, 5.0)
@@ -105,8 +106,8 @@ class Runner:
                         active[started.proc.pid] = started
                 if not active:
                     if queue and not self.binary_changed:
-                        self.say(f"budget: {hours(self.left())} left, less than the next run's estimate; "
-                                 f"{len(queue)} run(s) left for the next invocation")
+                        self.say(f"budget: {hours(self.left())} left, less than the next run's estimate "
+                                 f"and than the minimum slice; {len(queue)} run(s) left for the next invocation")
                     break
                 self._reap(active, outcome, block=False)
                 if time.monotonic() - last_report >= self.progress_every:
@@ -122,13 +123,20 @@ class Runner:
         return outcome
 
     def _next_fitting(self, queue: list):
-        """The first run of the queue whose estimated remaining cost fits the time left;
-        the ones that do not fit are dropped for this invocation."""
+        """The first run of the queue whose estimated remaining cost fits the time left,
+        or any run while at least the minimum slice is left (a run longer than a session
+        goes on in installments); the ones that do not start are dropped for this
+        invocation."""
         while queue and not self.binary_changed:
             state = queue[0]
             state.progress = state.folder.progress()
             need = self.estimate * (1.0 - state.progress.fraction)
             if need <= self.left():
+                queue.pop(0)
+                return state
+            if self.min_slice > 0.0 and self.left() >= self.min_slice:
+                self.say(f"budget: {state.run.label} needs about {hours(need)}, {hours(self.left())} left: it "
+                         "starts and stops at a checkpoint when the budget ends")
                 queue.pop(0)
                 return state
             self.say(f"budget: not starting {state.run.label}: {hours(self.left())} left, it needs about "

@@ -103,6 +103,26 @@ def test_runs_are_stored_with_provenance_and_a_second_invocation_runs_nothing(ti
     assert "nothing to run" in dry.stdout
 
 
+def test_a_run_longer_than_the_budget_starts_while_the_minimum_slice_is_left(tmp_path):
+    # A run estimated far beyond the budget (a paper-tier run on one core is longer than a
+    # session): with a minimum slice it starts and stops at a checkpoint; without, it waits.
+    plan = write_plan(tmp_path, name="slice", seed_list=(3,), angles=(0,), set={**TINY_SET, "thermal.cycles": 20})
+    budget = f"{2.0 / 3600:.8f}"   # 2 s: the pour, not the cycles
+    waits = campaign(plan, tmp_path / "w0", tmp_path / "r0", "--budget", budget, "--stop-margin", "0.5",
+                     "--golden-check", "skip", "--run-hours", "100", "--min-slice", "0")
+    assert "budget: not starting theta0/seed3" in waits.stdout, waits.stdout
+    assert not (tmp_path / "w0" / "runs" / "theta0" / "seed3" / "out").exists()
+    dry = campaign(plan, tmp_path / "w1", tmp_path / "r1", "--dry-run", "--budget", "1", "--run-hours", "100")
+    assert "[stops at a checkpoint when the budget ends]" in dry.stdout, dry.stdout
+    assert "0 of 1 run(s) fit in 1.00 h with 1 at a time, 1 more start and stop at a checkpoint" in dry.stdout
+    starts = campaign(plan, tmp_path / "w1", tmp_path / "r1", "--budget", budget, "--stop-margin", "0.5",
+                      "--golden-check", "skip", "--run-hours", "100", "--min-slice", "0.001")
+    assert "theta0/seed3 needs about 100.00 h" in starts.stdout and "starts and stops at a checkpoint" in starts.stdout
+    assert "stopped theta0/seed3" in starts.stdout, starts.stdout
+    bad = campaign(plan, tmp_path / "w1", tmp_path / "r1", "--budget", budget, "--min-slice", "-1", check=False)
+    assert bad.returncode == 2 and "--min-slice: expected a number >= 0, got '-1'" in bad.stderr
+
+
 def test_budget_ending_mid_run_leaves_a_run_the_next_invocation_completes_with_the_same_bytes(tmp_path):
     # One run long enough to be stopped: 20 cycles (about 2 s of CPU).
     plan = write_plan(tmp_path, name="long", seed_list=(3,), angles=(0,), set={**TINY_SET, "thermal.cycles": 20})
