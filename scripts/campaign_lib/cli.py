@@ -44,28 +44,27 @@ class UsageError(Exception):
     pass
 
 
-def positive(name):
+def number_at_least(name, low, strict):
+    """argparse type: a finite number > low (strict) or >= low, else an error naming the option."""
+    expected = f"a number {'>' if strict else '>='} {low:g}"
+
     def parse(text):
         try:
             value = float(text)
         except ValueError:
-            raise argparse.ArgumentTypeError(f"{name}: expected a number > 0, got '{text}'") from None
-        if not math.isfinite(value) or value <= 0:
-            raise argparse.ArgumentTypeError(f"{name}: expected a number > 0, got '{text}'")
+            raise argparse.ArgumentTypeError(f"{name}: expected {expected}, got '{text}'") from None
+        if not math.isfinite(value) or value < low or (strict and value == low):
+            raise argparse.ArgumentTypeError(f"{name}: expected {expected}, got '{text}'")
         return value
     return parse
+
+
+def positive(name):
+    return number_at_least(name, 0.0, strict=True)
 
 
 def non_negative(name):
-    def parse(text):
-        try:
-            value = float(text)
-        except ValueError:
-            raise argparse.ArgumentTypeError(f"{name}: expected a number >= 0, got '{text}'") from None
-        if not math.isfinite(value) or value < 0:
-            raise argparse.ArgumentTypeError(f"{name}: expected a number >= 0, got '{text}'")
-        return value
-    return parse
+    return number_at_least(name, 0.0, strict=False)
 
 
 def whole(text):
