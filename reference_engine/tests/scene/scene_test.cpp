@@ -232,8 +232,8 @@ TEST(Scene, EffectiveSceneFillsEveryDefaultAndReadsBackTheSame) {
   EXPECT_EQ(e.at("solver").at("tolerance"), 1e-6);  // as written
   EXPECT_EQ(e.at("solver").at("max_iterations"), 1000);
   EXPECT_EQ(e.at("solver").at("criterion"), "impulse");
-  EXPECT_EQ(e.at("solver").at("acceleration"), "none");  // Anderson would hide a rigid jam (scene-format.md)
-  EXPECT_EQ(s.solver.acceleration, Acceleration::None);
+  EXPECT_EQ(e.at("solver").at("acceleration"), "anderson");  // with the rigid law bounded (method.md s. 7)
+  EXPECT_EQ(s.solver.acceleration, Acceleration::Anderson);
   EXPECT_EQ(s.solver.compliance, 0.0);  // the rigid law, the paper's
   EXPECT_EQ(e.at("materials").at("friction"), 0.5);
   EXPECT_EQ(e.at("effects").at("rotation"), true);

@@ -75,5 +75,79 @@ TEST(Anderson, MixedImpulsesStayInsideTheirCones) {
   EXPECT_GT(mixes, 0);
 }
 
+// A rigid jam: a unit mass between a floor and a ceiling that both ask it to move away
+// at speed a (biases -a), i.e. u_z >= a and -u_z >= a: no solution. Each plain sweep adds
+// the same impulse 2a to both contacts.
+struct Jam {
+  std::vector<Vec3> v{Vec3::Zero()}, w{Vec3::Zero()};
+  std::vector<double> inv_mass{1.0}, mass{1.0}, scale{1.0};
+  std::vector<Mat3> inv_inertia{Mat3::Zero()}, R{Mat3::Identity()};
+  std::vector<Vec3> inertia{Vec3::Ones()};
+  std::vector<SolverRow> rows;
+  SolverScratch scratch;
+  static constexpr double a = 0.01;
+  Jam() {
+    for (int side = 0; side < 2; ++side) {
+      SolverRow r;
+      r.a = 0;
+      r.b = wall_side(side);
+      const double s = side == 0 ? 1.0 : -1.0;
+      r.F.col(0) = s * Vec3::UnitZ();
+      r.F.col(1) = Vec3::UnitX();
+      r.F.col(2) = s * Vec3::UnitY();
+      r.W = Mat3::Identity();
+      r.bias = -a;
+      rows.push_back(r);
+    }
+    scratch.v_free = v;
+    scratch.w_free = w;
+  }
+  SolverBodies bodies() { return SolverBodies{v, w, inv_mass, inv_inertia, R, mass, inertia, scale}; }
+};
+
+SolveSettings jam_settings(bool rigid) {
+  SolveSettings s;
+  s.max_iterations = 1000;
+  s.tolerance = 1e-4;
+  s.friction = false;
+  s.rotation = false;
+  s.anderson_depth = 5;
+  s.rigid = rigid;
+  return s;
+}
+
+TEST(Anderson, UnboundedItExtrapolatesAJamToImpulsesThatLookConverged) {
+  // Why the rigid law bounds the step: without the bound the solve reports convergence
+  // at impulses set by the extrapolation, some hundred million increments of the jam.
+  Jam j;
+  SolverBodies b = j.bodies();
+  const SolveResult r = solve_nsgs(j.rows, b, jam_settings(false), j.scratch);
+  EXPECT_TRUE(r.converged);
+  EXPECT_GT(normal_impulse_sum(j.rows), 1e8 * 2.0 * Jam::a) << r.sweeps << " sweeps";
+}
+
+TEST(Anderson, BoundedWithTheRigidLawAJamIsSeenAndItsImpulsesStayFinite) {
+  Jam j;
+  SolverBodies b = j.bodies();
+  const SolveResult r = solve_nsgs(j.rows, b, jam_settings(true), j.scratch);
+  EXPECT_TRUE(r.normal_growth || r.persistent_growth) << r.sweeps << " sweeps, converged " << r.converged;
+  // At most the plain increment 2a plus 100 of them (the bound) per sweep and contact.
+  EXPECT_LE(normal_impulse_sum(j.rows), 2.0 * r.sweeps * 101.0 * 2.0 * Jam::a);
+}
+
+TEST(Anderson, TheRigidBoundLeavesASolvableColumnToConvergeAsFast) {
+  // The deep column is solvable: its extrapolation stays within the bound's 100 sweeps'
+  // worth, or the bound must not cost more than a few sweeps.
+  test::Column free(40, 0.04, 0.5), bounded(40, 0.04, 0.5);
+  SolverBodies bf = free.bodies(), bb = bounded.bodies();
+  SolveSettings rigid = settings(5);
+  rigid.rigid = true;
+  const SolveResult rf = solve_nsgs(free.rows, bf, settings(5), free.scratch);
+  const SolveResult rb = solve_nsgs(bounded.rows, bb, rigid, bounded.scratch);
+  ASSERT_TRUE(rb.converged);
+  EXPECT_FALSE(rb.persistent_growth);
+  EXPECT_LE(rb.sweeps, rf.sweeps + 5) << rb.sweeps << " against " << rf.sweeps;
+}
+
 }  // namespace
 }  // namespace ratchet

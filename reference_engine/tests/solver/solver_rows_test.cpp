@@ -29,6 +29,13 @@ TEST(SolverRows, TheJamDetectorNeedsUnconvergedGrowthByHalf) {
   EXPECT_FALSE(normal_impulses_grew(false, 1.0, 1.4));  // slow, but settled
   EXPECT_FALSE(normal_impulses_grew(true, 1.0, 3.0));   // converged
   EXPECT_FALSE(normal_impulses_grew(false, -1.0, 3.0)); // never reached half the cap
+  // An accelerated rigid solve: growth by half since the first sweep while the last
+  // sweep still changed the impulses by a tenth of the first's change.
+  EXPECT_TRUE(jam_persisted(5, 1.0, 0.5, 1.0, 1e6));
+  EXPECT_FALSE(jam_persisted(5, 1.0, 0.05, 1.0, 1e6));   // the change fell: a cold start converging
+  EXPECT_FALSE(jam_persisted(5, 1.0, 1.0, 1.0, 1.4));    // changing, but settled
+  EXPECT_FALSE(jam_persisted(2, 1.0, 1.0, 1.0, 1e6));    // two sweeps: nothing extrapolated yet
+  EXPECT_FALSE(jam_persisted(5, 1.0, 1.0, -1.0, 1e6));   // no first sweep recorded
   std::vector<SolverRow> rows(3);
   rows[0].lambda[0] = 1.0;
   rows[1].lambda[0] = 0.5;

@@ -46,7 +46,7 @@ struct SolverSettings {
   double tolerance = 1e-4;  // on the criterion's relative change between sweeps (docs/method.md s. 7)
   Criterion criterion = Criterion::Impulse;
   int max_iterations = 1000;
-  Acceleration acceleration = Acceleration::None;  // not Anderson: it hides a rigid jam (docs/scene-format.md, *What the defaults cost*)
+  Acceleration acceleration = Acceleration::Anderson;  // with the rigid law: bounded, and a second jam test (docs/method.md s. 7)
   int anderson_depth = 5;   // memory of the Anderson acceleration, in sweeps
   double theta = 1.0;       // Moreau-Jean theta in [0.5, 1]; 1 = fully implicit
   double p_gap = 0.1;       // fraction of an overlap closed per step, in (0, 1]

@@ -96,6 +96,24 @@ void AndersonMixer::subtract_columns(double* x, std::size_t n, bool parallel, co
   }
 }
 
+// |dG gamma| against |G(x_k) - x_k|, entry by entry in order (one thread: it runs only for
+// the rigid law, where the sweeps, not this pass, are the cost).
+void AndersonMixer::bound_step(std::size_t n) {
+  double step2 = 0.0, move2 = 0.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double d = g_prev_[i] - x_[i];
+    step2 += d * d;
+    double c = 0.0;
+    for (int a = 0; a < count_; ++a) c += gamma_[a] * gcols_[a][i];
+    move2 += c * c;
+  }
+  const double limit = step_bound_ * std::sqrt(step2), move = std::sqrt(move2);
+  if (move > limit) {
+    const double s = move > 0.0 ? limit / move : 0.0;
+    for (int a = 0; a < count_; ++a) gamma_[a] *= s;
+  }
+}
+
 Vec3 AndersonMixer::unprojected(std::size_t k) const { return Vec3(raw_[3 * k], raw_[3 * k + 1], raw_[3 * k + 2]); }
 
 Vec3 AndersonMixer::extrapolated(std::size_t k, double mu) const { return project_onto_cone(unprojected(k), mu); }
@@ -214,6 +232,7 @@ bool AndersonMixer::plan(const std::vector<SolverRow>& rows) {
     gcols_[a] = dG_[static_cast<std::size_t>(a)].data();
     vcols_[a] = dV_[static_cast<std::size_t>(a)].data();
   }
+  if (step_bound_ > 0.0) bound_step(n);
   raw_ = g_prev_;  // G(x_k), minus the mix of the dG columns
   subtract_columns(raw_.data(), n, parallel, gcols_);
   return true;

@@ -25,8 +25,13 @@ class AndersonMixer {
   // sums); the passes run in parallel above these sizes, below which a parallel region
   // costs more than it saves.
   static constexpr std::size_t kBlock = 512;
-  explicit AndersonMixer(int depth, int parallel_min_rows = kParallelMinRows)
-      : depth_(depth < kMaxDepth ? depth : kMaxDepth), parallel_min_rows_(parallel_min_rows) {}
+  // step_bound > 0: the extrapolation moves the impulses at most step_bound times as far
+  // as the sweep did (|dG gamma| <= step_bound |G(x) - x|; 0: no bound). The rigid law
+  // needs it: a jam has no solution, and an unbounded extrapolation of its growth makes
+  // the impulses so large that the sweep's constant increment is lost in their round-off.
+  explicit AndersonMixer(int depth, int parallel_min_rows = kParallelMinRows, double step_bound = 0.0)
+      : depth_(depth < kMaxDepth ? depth : kMaxDepth), parallel_min_rows_(parallel_min_rows),
+        step_bound_(step_bound) {}
 
   // The sweep writes x_k (before) and G(x_k) (after) row by row into these contiguous
   // buffers (3 per row) while each row is in cache.
@@ -52,6 +57,8 @@ class AndersonMixer {
  private:
   int depth_;
   int parallel_min_rows_;  // the passes run in parallel above this many rows (bodies: a quarter)
+  double step_bound_;      // 0, or the bound on the extrapolation's step (constructor)
+  void bound_step(std::size_t n);  // scales gamma_ so that the step keeps step_bound_
   std::vector<double> x_, f_prev_, g_prev_, f_, g_;
   std::vector<double> vel_, vel_prev_;        // body velocities after the sweep (6 per body)
   std::vector<std::vector<double>> dF_, dG_, dV_;  // ring buffers of columns

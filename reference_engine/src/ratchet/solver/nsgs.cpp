@@ -13,6 +13,10 @@ namespace {
 constexpr int kStallSweeps = 100;  // sweeps without halving the residual: 5x a normal step's total
 constexpr double kStallProgress = 0.5;  // a new mark: the residual below half the last mark
 constexpr std::int8_t kSpringLaw = 1, kCapLaw = 2;  // SolverRow::law_taken, law_kept
+// The rigid law's bound on Anderson's step, in sweeps' worth (AndersonMixer): a
+// contraction at rate q asks for about 1 / (1 - q), 100 at q = 0.99; a jam's growth is
+// then at most about 100 increments per sweep, which the jam tests still resolve.
+constexpr double kRigidStepBound = 100.0;
 
 // A compliant row whose overlap asks for a separation speed above the cap: the rigid
 // law with the capped speed (u_n >= cap) is the second law, and the row takes whichever
@@ -161,8 +165,12 @@ SolveResult solve_nsgs(std::vector<SolverRow>& cs, SolverBodies& B, const SolveS
   double residual = 0.0;
   const int half = set.max_iterations / 2;
   double normal_half = -1.0;  // sum of the normal impulses after half the allowed sweeps
+  // An accelerated rigid solve's jam test (jam_persisted): the first sweep's normal sum
+  // and change, and the last sweep's change.
+  const bool persist_test = set.rigid && set.anderson_depth > 0;
+  double normal_first = -1.0, change_first = 0.0, change_last = 0.0;
   std::int64_t tangential = 0;
-  AndersonMixer mixer(set.anderson_depth, set.parallel_min_rows);
+  AndersonMixer mixer(set.anderson_depth, set.parallel_min_rows, set.rigid ? kRigidStepBound : 0.0);
   bool accelerate = set.anderson_depth > 0;
   // Stall guard of the acceleration: the residual must halve within kStallSweeps sweeps
   // of the last halving, or the rest of the solve runs plain sweeps, which contract for
@@ -188,6 +196,10 @@ SolveResult solve_nsgs(std::vector<SolverRow>& cs, SolverBodies& B, const SolveS
       residual = l2 > 0.0 ? std::sqrt(d2 / l2) : std::sqrt(d2);
     }
     if (it == half) normal_half = normal_impulse_sum(cs);
+    if (persist_test) {
+      change_last = std::sqrt(d2);
+      if (it == 1) { normal_first = normal_impulse_sum(cs); change_first = change_last; }
+    }
     if (residual < tol) break;
     if (residual < kStallProgress * mark) {
       mark = residual;
@@ -206,7 +218,10 @@ SolveResult solve_nsgs(std::vector<SolverRow>& cs, SolverBodies& B, const SolveS
   }
   out.sweeps = cs.empty() ? 0 : std::min(it, set.max_iterations);
   out.converged = cs.empty() || residual < tol;
-  out.normal_growth = normal_impulses_grew(out.converged, normal_half, normal_impulse_sum(cs));
+  const double normal_end = normal_impulse_sum(cs);
+  out.normal_growth = normal_impulses_grew(out.converged, normal_half, normal_end);
+  out.persistent_growth =
+      persist_test && jam_persisted(out.sweeps, change_first, change_last, normal_first, normal_end);
   out.residual = residual;
   out.tangential_solves = tangential;
   out.restarts = mixer.restarts();

@@ -105,6 +105,7 @@ struct SolveSettings {
   bool friction = true;
   bool rotation = true;
   int anderson_depth = 0;    // > 0: Anderson acceleration with this memory (solver/anderson.hpp)
+  bool rigid = false;        // the rigid law (solver.compliance 0): an accelerated solve also reports persistent_growth
   int parallel_min_rows = kParallelMinRows;
   const RowColouring* colouring = nullptr;  // the rows' colouring (parallel sweep), or null: one thread in row order
 };
@@ -114,6 +115,7 @@ struct SolveResult {
   double residual = 0.0;
   bool converged = true;
   bool normal_growth = false;          // unconverged, and the normal impulses still grew
+  bool persistent_growth = false;      // accelerated rigid solve: the impulses grew while a sweep's change did not fall (a jam)
   std::int64_t tangential_solves = 0;  // local solves with friction in this call
   int restarts = 0;                    // Anderson history restarts
   bool plain_fallback = false;         // the acceleration stalled and plain sweeps finished
@@ -140,6 +142,20 @@ double normal_impulse_sum(const std::vector<SolverRow>& rows);
 constexpr double kNormalGrowth = 1.5;  // between 1 (settled sums) and 2 (sums in proportion to the sweeps: a jam)
 inline bool normal_impulses_grew(bool converged, double sum_at_half, double sum_at_end) {
   return !converged && sum_at_half >= 0.0 && sum_at_end > kNormalGrowth * sum_at_half;
+}
+
+// The jam detector of an accelerated solve. Anderson extrapolates a jam's growth: the
+// impulses become huge and their relative change falls below the tolerance, so the
+// test above never sees it. But the absolute change of a sweep, |G(x) - x|, is the jam's
+// constant increment however far x was extrapolated, while a solvable problem's falls
+// (by about 0.7 per sweep in a flowing bed; from a cold start by far more than the
+// impulses grow). So: the normal impulses grew by half or more since the first sweep,
+// and the last sweep changed them by at least half as much as the first did.
+constexpr double kPersistentChange = 0.1;  // last sweep's |d lambda| over the first's: 0.4-2 in a jam (JammedSphere), ~1e-4 x the growth after a cold start
+inline bool jam_persisted(int sweeps, double first_change, double last_change, double sum_after_first,
+                          double sum_at_end) {
+  return sweeps >= 3 && sum_after_first >= 0.0 && sum_at_end > kNormalGrowth * sum_after_first &&
+         last_change >= kPersistentChange * first_change;
 }
 
 }  // namespace ratchet

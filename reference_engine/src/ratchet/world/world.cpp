@@ -151,6 +151,7 @@ void World::solve() {
   settings.friction = friction_on_;
   settings.rotation = rotation_on_;
   if (scene_.solver.acceleration == Acceleration::Anderson) settings.anderson_depth = scene_.solver.anderson_depth;
+  settings.rigid = scene_.solver.compliance == 0.0;
   settings.colouring = &scratch_.colouring;
   if (test_hooks().parallel_min_rows >= 0) settings.parallel_min_rows = test_hooks().parallel_min_rows;
   scratch_.solver.v_free = state_.v;  // stored once: the velocity criterion and the jam's re-solve read it
@@ -159,7 +160,7 @@ void World::solve() {
   SolveResult r = solve_contacts(bodies, settings);
   int sweeps = r.sweeps;
   std::int64_t tangential = r.tangential_solves;
-  const bool jammed = r.normal_growth && scene_.solver.compliance == 0.0;
+  const bool jammed = (r.normal_growth || r.persistent_growth) && scene_.solver.compliance == 0.0;
   const double first_residual = r.residual;
   if (jammed) {
     yield_to_jam(bodies);
