@@ -114,8 +114,6 @@ void AndersonMixer::bound_step(std::size_t n) {
   }
 }
 
-Vec3 AndersonMixer::unprojected(std::size_t k) const { return Vec3(raw_[3 * k], raw_[3 * k + 1], raw_[3 * k + 2]); }
-
 Vec3 AndersonMixer::extrapolated(std::size_t k, double mu) const { return project_onto_cone(unprojected(k), mu); }
 
 bool AndersonMixer::plan(const std::vector<SolverRow>& rows) {

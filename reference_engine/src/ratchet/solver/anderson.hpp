@@ -48,7 +48,7 @@ class AndersonMixer {
   // unprojected(k) the same before the projection.
   bool plan(const std::vector<SolverRow>& rows);
   Vec3 extrapolated(std::size_t k, double mu) const;
-  Vec3 unprojected(std::size_t k) const;
+  Vec3 unprojected(std::size_t k) const { return Vec3(raw_[3 * k], raw_[3 * k + 1], raw_[3 * k + 2]); }
   // The body velocities of the unprojected impulses (needs record_velocities each sweep).
   void extrapolated_velocities(std::vector<Vec3>& v, std::vector<Vec3>& w) const;
 
