@@ -48,6 +48,25 @@ void new_column_block(const NewColumn& p, int m, std::size_t i0, std::size_t i1,
   for (int b = 0; b < count; ++b) out[1 + b] = dots[b];
 }
 
+// x[i] -= gamma_a cols[a][i] for a = 0, 1, ... in that order, entry by entry: the same
+// operations on each entry as a pass per column, with the entry loaded and stored once
+// (a pass per column cost 3.7 instructions per entry and column, callgrind). M > 0: the
+// number of columns known when compiled; M = 0: any count m.
+template <int M>
+void subtract_block(double* __restrict x, std::size_t i0, std::size_t i1, const double* gamma,
+                    const double* const* cols, int m) {
+  constexpr int kSlots = M > 0 ? M : kMaxAndersonDepth;
+  const int count = M > 0 ? M : m;
+  double g[kSlots];
+  const double* __restrict c[kSlots];
+  for (int a = 0; a < count; ++a) { g[a] = gamma[a]; c[a] = cols[a]; }
+  for (std::size_t i = i0; i < i1; ++i) {
+    double xi = x[i];
+    for (int a = 0; a < count; ++a) xi -= g[a] * c[a][i];
+    x[i] = xi;
+  }
+}
+
 }  // namespace
 
 double* AndersonMixer::record_buffer(std::size_t rows, bool after) {
@@ -69,8 +88,7 @@ void AndersonMixer::record_velocities(const std::vector<Vec3>& v, const std::vec
 
 void AndersonMixer::extrapolated_velocities(std::vector<Vec3>& v, std::vector<Vec3>& w) const {
   const std::size_t n = v.size();
-  // Column by column, each entry minus its products in the order of the columns: the
-  // same operations on each entry as one entry at a time, as plain streaming loops.
+  // Each entry minus its products in the order of the columns (subtract_block).
   std::vector<double>& x = vel_mix_;
   x.assign(vel_prev_.begin(), vel_prev_.begin() + static_cast<std::ptrdiff_t>(6 * n));  // velocities of G(x_k)
   subtract_columns(x.data(), 6 * n, n > static_cast<std::size_t>(parallel_min_rows_ / 4), vcols_);
@@ -87,11 +105,13 @@ void AndersonMixer::subtract_columns(double* x, std::size_t n, bool parallel, co
 #pragma omp parallel for schedule(static) if (parallel)
   for (int blk = 0; blk < nblocks; ++blk) {
     const std::size_t i0 = 3 * kBlock * static_cast<std::size_t>(blk), i1 = std::min(n, i0 + 3 * kBlock);
-    double* __restrict xb = x;  // never one of the columns: lets the loop use packed operations
-    for (int a = 0; a < count_; ++a) {
-      const double ga = gamma_[a];
-      const double* __restrict col = cols[a];
-      for (std::size_t i = i0; i < i1; ++i) xb[i] -= ga * col[i];
+    switch (count_) {  // the usual depths with the entry kept in a register across the columns
+      case 1: subtract_block<1>(x, i0, i1, gamma_, cols, 1); break;
+      case 2: subtract_block<2>(x, i0, i1, gamma_, cols, 2); break;
+      case 3: subtract_block<3>(x, i0, i1, gamma_, cols, 3); break;
+      case 4: subtract_block<4>(x, i0, i1, gamma_, cols, 4); break;
+      case 5: subtract_block<5>(x, i0, i1, gamma_, cols, 5); break;
+      default: subtract_block<0>(x, i0, i1, gamma_, cols, count_);
     }
   }
 }
