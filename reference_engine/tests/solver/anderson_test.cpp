@@ -12,10 +12,10 @@
 namespace ratchet {
 namespace {
 
-SolveSettings settings(int depth) {
+SolveSettings settings(int depth, int max_iterations = 100000, double tolerance = 1e-10) {
   SolveSettings s;
-  s.max_iterations = 100000;
-  s.tolerance = 1e-10;
+  s.max_iterations = max_iterations;
+  s.tolerance = tolerance;
   s.rotation = false;
   s.anderson_depth = depth;
   return s;
@@ -105,13 +105,10 @@ struct Jam {
   SolverBodies bodies() { return SolverBodies{v, w, inv_mass, inv_inertia, R, mass, inertia, scale}; }
 };
 
+// The defaults' cap and tolerance, frictionless: the jam's sweeps are those of a scene.
 SolveSettings jam_settings(bool rigid) {
-  SolveSettings s;
-  s.max_iterations = 1000;
-  s.tolerance = 1e-4;
+  SolveSettings s = settings(5, 1000, 1e-4);
   s.friction = false;
-  s.rotation = false;
-  s.anderson_depth = 5;
   s.rigid = rigid;
   return s;
 }
