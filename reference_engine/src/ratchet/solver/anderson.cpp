@@ -48,20 +48,20 @@ void new_column_block(const NewColumn& p, int m, std::size_t i0, std::size_t i1,
   for (int b = 0; b < count; ++b) out[1 + b] = dots[b];
 }
 
-// x[i] -= gamma_a cols[a][i] for a = 0, 1, ... in that order, entry by entry: the same
-// operations on each entry as a pass per column, with the entry loaded and stored once
-// (a pass per column cost 3.7 instructions per entry and column, callgrind). M > 0: the
-// number of columns known when compiled; M = 0: any count m.
+// x[i] = src[i] - gamma_a cols[a][i] for a = 0, 1, ... in that order, entry by entry:
+// the same operations on each entry as a copy and then a pass per column, with the entry
+// loaded and stored once (a pass per column cost 3.7 instructions per entry and column,
+// callgrind). M > 0: the number of columns known when compiled; M = 0: any count m.
 template <int M>
-void subtract_block(double* __restrict x, std::size_t i0, std::size_t i1, const double* gamma,
-                    const double* const* cols, int m) {
+void subtract_block(double* __restrict x, const double* __restrict src, std::size_t i0, std::size_t i1,
+                    const double* gamma, const double* const* cols, int m) {
   constexpr int kSlots = M > 0 ? M : kMaxAndersonDepth;
   const int count = M > 0 ? M : m;
   double g[kSlots];
   const double* __restrict c[kSlots];
   for (int a = 0; a < count; ++a) { g[a] = gamma[a]; c[a] = cols[a]; }
   for (std::size_t i = i0; i < i1; ++i) {
-    double xi = x[i];
+    double xi = src[i];
     for (int a = 0; a < count; ++a) xi -= g[a] * c[a][i];
     x[i] = xi;
   }
@@ -90,8 +90,8 @@ void AndersonMixer::extrapolated_velocities(std::vector<Vec3>& v, std::vector<Ve
   const std::size_t n = v.size();
   // Each entry minus its products in the order of the columns (subtract_block).
   std::vector<double>& x = vel_mix_;
-  x.assign(vel_prev_.begin(), vel_prev_.begin() + static_cast<std::ptrdiff_t>(6 * n));  // velocities of G(x_k)
-  subtract_columns(x.data(), 6 * n, n > static_cast<std::size_t>(parallel_min_rows_ / 4), vcols_);
+  x.resize(6 * n);  // the velocities of G(x_k) minus the mix of the dV columns
+  subtract_columns(x.data(), vel_prev_.data(), 6 * n, n > static_cast<std::size_t>(parallel_min_rows_ / 4), vcols_);
 #pragma omp parallel for schedule(static) if (static_cast<int>(n) > parallel_min_rows_ / 4)
   for (std::size_t i = 0; i < n; ++i)
     for (int j = 0; j < 3; ++j) {
@@ -100,18 +100,19 @@ void AndersonMixer::extrapolated_velocities(std::vector<Vec3>& v, std::vector<Ve
     }
 }
 
-void AndersonMixer::subtract_columns(double* x, std::size_t n, bool parallel, const double* const* cols) const {
+void AndersonMixer::subtract_columns(double* x, const double* src, std::size_t n, bool parallel,
+                                     const double* const* cols) const {
   const int nblocks = static_cast<int>((n + 3 * kBlock - 1) / (3 * kBlock));
 #pragma omp parallel for schedule(static) if (parallel)
   for (int blk = 0; blk < nblocks; ++blk) {
     const std::size_t i0 = 3 * kBlock * static_cast<std::size_t>(blk), i1 = std::min(n, i0 + 3 * kBlock);
     switch (count_) {  // the usual depths with the entry kept in a register across the columns
-      case 1: subtract_block<1>(x, i0, i1, gamma_, cols, 1); break;
-      case 2: subtract_block<2>(x, i0, i1, gamma_, cols, 2); break;
-      case 3: subtract_block<3>(x, i0, i1, gamma_, cols, 3); break;
-      case 4: subtract_block<4>(x, i0, i1, gamma_, cols, 4); break;
-      case 5: subtract_block<5>(x, i0, i1, gamma_, cols, 5); break;
-      default: subtract_block<0>(x, i0, i1, gamma_, cols, count_);
+      case 1: subtract_block<1>(x, src, i0, i1, gamma_, cols, 1); break;
+      case 2: subtract_block<2>(x, src, i0, i1, gamma_, cols, 2); break;
+      case 3: subtract_block<3>(x, src, i0, i1, gamma_, cols, 3); break;
+      case 4: subtract_block<4>(x, src, i0, i1, gamma_, cols, 4); break;
+      case 5: subtract_block<5>(x, src, i0, i1, gamma_, cols, 5); break;
+      default: subtract_block<0>(x, src, i0, i1, gamma_, cols, count_);
     }
   }
 }
@@ -251,8 +252,8 @@ bool AndersonMixer::plan(const std::vector<SolverRow>& rows) {
     vcols_[a] = dV_[static_cast<std::size_t>(a)].data();
   }
   if (step_bound_ > 0.0) bound_step(n);
-  raw_ = g_prev_;  // G(x_k), minus the mix of the dG columns
-  subtract_columns(raw_.data(), n, parallel, gcols_);
+  raw_.resize(n);  // G(x_k) minus the mix of the dG columns
+  subtract_columns(raw_.data(), g_prev_.data(), n, parallel, gcols_);
   return true;
 }
 

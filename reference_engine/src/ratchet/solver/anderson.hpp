@@ -71,9 +71,9 @@ class AndersonMixer {
   double gamma_[kMaxDepth] = {};              // the last plan's coefficients
   const double* gcols_[kMaxDepth] = {};       // and the dG columns they weigh
   const double* vcols_[kMaxDepth] = {};       // and the dV columns
-  // x[i] -= sum over the plan's columns of gamma_a cols[a][i], in column order, in
-  // blocks of 3 kBlock entries (in parallel if asked).
-  void subtract_columns(double* x, std::size_t n, bool parallel, const double* const* cols) const;
+  // x[i] = src[i] - sum over the plan's columns of gamma_a cols[a][i], in column order,
+  // in blocks of 3 kBlock entries (in parallel if asked); x is not src.
+  void subtract_columns(double* x, const double* src, std::size_t n, bool parallel, const double* const* cols) const;
   int count_ = 0, head_ = 0;
   bool have_prev_ = false;
   double fnorm_prev_ = 0.0;
