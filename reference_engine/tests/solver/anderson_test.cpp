@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "column_problem.hpp"
+#include "ratchet/scene/scene.hpp"
 #include "ratchet/core/random.hpp"
 
 namespace ratchet {
@@ -76,38 +77,25 @@ TEST(Anderson, MixedImpulsesStayInsideTheirCones) {
 }
 
 // A rigid jam: a unit mass between a floor and a ceiling that both ask it to move away
-// at speed a (biases -a), i.e. u_z >= a and -u_z >= a: no solution. Each plain sweep adds
-// the same impulse 2a to both contacts.
-struct Jam {
-  std::vector<Vec3> v{Vec3::Zero()}, w{Vec3::Zero()};
-  std::vector<double> inv_mass{1.0}, mass{1.0}, scale{1.0};
-  std::vector<Mat3> inv_inertia{Mat3::Zero()}, R{Mat3::Identity()};
-  std::vector<Vec3> inertia{Vec3::Ones()};
-  std::vector<SolverRow> rows;
-  SolverScratch scratch;
-  static constexpr double a = 0.01;
-  Jam() {
-    for (int side = 0; side < 2; ++side) {
-      SolverRow r;
-      r.a = 0;
-      r.b = wall_side(side);
-      const double s = side == 0 ? 1.0 : -1.0;
-      r.F.col(0) = s * Vec3::UnitZ();
-      r.F.col(1) = Vec3::UnitX();
-      r.F.col(2) = s * Vec3::UnitY();
-      r.W = Mat3::Identity();
-      r.bias = -a;
-      rows.push_back(r);
-    }
-    scratch.v_free = v;
-    scratch.w_free = w;
-  }
-  SolverBodies bodies() { return SolverBodies{v, w, inv_mass, inv_inertia, R, mass, inertia, scale}; }
-};
+// at speed kJamSpeed (biases -kJamSpeed), i.e. u_z >= a and -u_z >= a: no solution. Each
+// plain sweep adds the same impulse 2a to both contacts. The column of one body, at rest,
+// with a ceiling row: the floor's row with its normal and second tangent turned over.
+constexpr double kJamSpeed = 0.01;
+test::Column jam_problem() {
+  test::Column c(1, 0.0, 0.0);
+  SolverRow ceiling = c.rows[0];
+  ceiling.b = wall_side(1);
+  ceiling.F.col(0) = -Vec3::UnitZ();
+  ceiling.F.col(2) = -Vec3::UnitY();
+  c.rows.push_back(ceiling);
+  for (SolverRow& r : c.rows) r.bias = -kJamSpeed;
+  return c;
+}
 
-// The defaults' cap and tolerance, frictionless: the jam's sweeps are those of a scene.
+// The scene defaults' cap and tolerance, frictionless: the jam's sweeps are those of a scene.
 SolveSettings jam_settings(bool rigid) {
-  SolveSettings s = settings(5, 1000, 1e-4);
+  const SolverSettings defaults;
+  SolveSettings s = settings(5, defaults.max_iterations, defaults.tolerance);
   s.friction = false;
   s.rigid = rigid;
   return s;
@@ -116,20 +104,20 @@ SolveSettings jam_settings(bool rigid) {
 TEST(Anderson, UnboundedItExtrapolatesAJamToImpulsesThatLookConverged) {
   // Why the rigid law bounds the step: without the bound the solve reports convergence
   // at impulses set by the extrapolation, some hundred million increments of the jam.
-  Jam j;
+  test::Column j = jam_problem();
   SolverBodies b = j.bodies();
   const SolveResult r = solve_nsgs(j.rows, b, jam_settings(false), j.scratch);
   EXPECT_TRUE(r.converged);
-  EXPECT_GT(normal_impulse_sum(j.rows), 1e8 * 2.0 * Jam::a) << r.sweeps << " sweeps";
+  EXPECT_GT(normal_impulse_sum(j.rows), 1e8 * 2.0 * kJamSpeed) << r.sweeps << " sweeps";
 }
 
 TEST(Anderson, BoundedWithTheRigidLawAJamIsSeenAndItsImpulsesStayFinite) {
-  Jam j;
+  test::Column j = jam_problem();
   SolverBodies b = j.bodies();
   const SolveResult r = solve_nsgs(j.rows, b, jam_settings(true), j.scratch);
   EXPECT_TRUE(r.normal_growth || r.persistent_growth) << r.sweeps << " sweeps, converged " << r.converged;
   // At most the plain increment 2a plus 100 of them (the bound) per sweep and contact.
-  EXPECT_LE(normal_impulse_sum(j.rows), 2.0 * r.sweeps * 101.0 * 2.0 * Jam::a);
+  EXPECT_LE(normal_impulse_sum(j.rows), 2.0 * r.sweeps * 101.0 * 2.0 * kJamSpeed);
 }
 
 TEST(Anderson, TheRigidBoundLeavesASolvableColumnToConvergeAsFast) {

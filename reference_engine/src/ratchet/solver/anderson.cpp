@@ -117,22 +117,21 @@ void AndersonMixer::subtract_columns(double* x, const double* src, std::size_t n
   }
 }
 
-// |dG gamma| against |G(x_k) - x_k|, entry by entry in order (one thread: it runs only for
-// the rigid law, where the sweeps, not this pass, are the cost).
-void AndersonMixer::bound_step(std::size_t n) {
+// The step taken, |G(x_k) - raw|, against the sweep's own, |G(x_k) - x_k|, entry by entry
+// in order (one thread: it runs only for the rigid law, where the sweeps, not this pass,
+// are the cost). True when gamma_ was scaled down and raw_ must be mixed again.
+bool AndersonMixer::bound_step(std::size_t n) {
   double step2 = 0.0, move2 = 0.0;
   for (std::size_t i = 0; i < n; ++i) {
-    const double d = g_prev_[i] - x_[i];
+    const double d = g_prev_[i] - x_[i], c = g_prev_[i] - raw_[i];
     step2 += d * d;
-    double c = 0.0;
-    for (int a = 0; a < count_; ++a) c += gamma_[a] * gcols_[a][i];
     move2 += c * c;
   }
   const double limit = step_bound_ * std::sqrt(step2), move = std::sqrt(move2);
-  if (move > limit) {
-    const double s = move > 0.0 ? limit / move : 0.0;
-    for (int a = 0; a < count_; ++a) gamma_[a] *= s;
-  }
+  if (!(move > limit)) return false;
+  const double scale = limit / move;
+  for (int a = 0; a < count_; ++a) gamma_[a] *= scale;
+  return true;
 }
 
 Vec3 AndersonMixer::extrapolated(std::size_t k, double mu) const { return project_onto_cone(unprojected(k), mu); }
@@ -251,9 +250,9 @@ bool AndersonMixer::plan(const std::vector<SolverRow>& rows) {
     gcols_[a] = dG_[static_cast<std::size_t>(a)].data();
     vcols_[a] = dV_[static_cast<std::size_t>(a)].data();
   }
-  if (step_bound_ > 0.0) bound_step(n);
   raw_.resize(n);  // G(x_k) minus the mix of the dG columns
   subtract_columns(raw_.data(), g_prev_.data(), n, parallel, gcols_);
+  if (step_bound_ > 0.0 && bound_step(n)) subtract_columns(raw_.data(), g_prev_.data(), n, parallel, gcols_);
   return true;
 }
 

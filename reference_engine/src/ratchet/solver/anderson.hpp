@@ -58,7 +58,7 @@ class AndersonMixer {
   int depth_;
   int parallel_min_rows_;  // the passes run in parallel above this many rows (bodies: a quarter)
   double step_bound_;      // 0, or the bound on the extrapolation's step (constructor)
-  void bound_step(std::size_t n);  // scales gamma_ so that the step keeps step_bound_
+  bool bound_step(std::size_t n);  // scales gamma_ so that the step keeps step_bound_; true if it did
   std::vector<double> x_, f_prev_, g_prev_, f_, g_;
   std::vector<double> vel_, vel_prev_;        // body velocities after the sweep (6 per body)
   std::vector<std::vector<double>> dF_, dG_, dV_;  // ring buffers of columns

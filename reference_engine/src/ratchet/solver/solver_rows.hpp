@@ -150,7 +150,7 @@ inline bool normal_impulses_grew(bool converged, double sum_at_half, double sum_
 // constant increment however far x was extrapolated, while a solvable problem's falls
 // (by about 0.7 per sweep in a flowing bed; from a cold start by far more than the
 // impulses grow). So: the normal impulses grew by half or more since the first sweep,
-// and the last sweep changed them by at least half as much as the first did.
+// and the last sweep changed them by at least a tenth as much as the first did.
 constexpr double kPersistentChange = 0.1;  // last sweep's |d lambda| over the first's: 0.4-2 in a jam (JammedSphere), ~1e-4 x the growth after a cold start
 inline bool jam_persisted(int sweeps, double first_change, double last_change, double sum_after_first,
                           double sum_at_end) {

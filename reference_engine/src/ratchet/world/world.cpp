@@ -160,7 +160,7 @@ void World::solve() {
   SolveResult r = solve_contacts(bodies, settings);
   int sweeps = r.sweeps;
   std::int64_t tangential = r.tangential_solves;
-  const bool jammed = (r.normal_growth || r.persistent_growth) && scene_.solver.compliance == 0.0;
+  const bool jammed = settings.rigid && (r.normal_growth || r.persistent_growth);
   const double first_residual = r.residual;
   if (jammed) {
     yield_to_jam(bodies);
