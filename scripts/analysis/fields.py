@@ -11,7 +11,8 @@ them into the CheckResults of the checks defined in trends.CHECKS (``stage_*``,
 Uncertainties: per run, the standard error over its cycles (the bed's own noise); per
 sweep point, the standard error over the realizations when there are at least two,
 else the one run's standard error; intervals are 95 % Student t (n - 1 dof), slopes
-over all runs use k SE, as the other checks of trends.py. The checks follow the states
+over all runs use the tier's k SE widened to Student t at the fit's dof
+(fits.widened_k), as the other slope checks of trends.py. The checks follow the states
 of docs/trends.md: passed, unresolved, contradicted (below the paper tier) or failed
 (at it), skipped.
 
@@ -594,16 +595,18 @@ def _trend_check(a, points, trends, check_id: str, key: str, direction: str) -> 
     fit, why = fits.try_fit(pd.Series(xs), pd.Series(ys), 1)
     if fit is None or not math.isfinite(fit.slope_se):
         return [trends._skip(a.case, d, check, f"no linear fit: {why}", a.tier)]
-    slope, se, k = fit.slope, fit.slope_se, p["k"]
+    slope, se, k_tier = fit.slope, fit.slope_se, p["k"]
+    k = fits.widened_k(k_tier, fit.dof)  # few runs: Student t at the fit's dof
     if np.ptp(ys) <= 1e-12 * abs(float(np.mean(ys))):  # all runs alike: the fit's slope is round-off
         slope, se = 0.0, 0.0
     in_se = slope / se if se > 0 else (math.copysign(math.inf, slope) if slope else 0.0)
-    detail = {"k": k, "slope": slope, "se": se, "slope_in_se": in_se, "n": len(xs),
+    detail = {"k": k, "k_tier": k_tier, "dof": fit.dof, "slope": slope, "se": se, "slope_in_se": in_se, "n": len(xs),
               "points": len(set(xs)), "x": xs, "y": ys}
     fit_text = f"slope {slope:.3g} +- {se:.2g} ({in_se:.2g} SE, {len(xs)} runs at {len(set(xs))} values)"
     if direction == "flat":
         expected = "0"
-        tolerance = f"abs {k:g} SE = {k * se:.4g} (SE {se:.4g}; {len(xs)} runs at {len(set(xs))} values)"
+        tolerance = (f"abs {k:.3g} SE ({k_tier:g} SE widened to Student t at {fit.dof} dof) = "
+                     f"{k * se:.4g} (SE {se:.4g}; {len(xs)} runs at {len(set(xs))} values)")
         unseen = k * se * (max(xs) - min(xs))
         mean = float(np.mean(ys))
         detail["unseen"] = unseen
@@ -619,7 +622,8 @@ def _trend_check(a, points, trends, check_id: str, key: str, direction: str) -> 
     else:
         sign = -1.0 if direction == "decrease" else 1.0
         expected = "< 0" if direction == "decrease" else "> 0"
-        tolerance = f"{k:g} SE beyond 0 (SE {se:.4g}; {len(xs)} runs at {len(set(xs))} values)"
+        tolerance = (f"{k:.3g} SE ({k_tier:g} SE widened to Student t at {fit.dof} dof) beyond 0 "
+                     f"(SE {se:.4g}; {len(xs)} runs at {len(set(xs))} values)")
         if sign * slope - k * se > 0:
             status, why = "passed", ""
         elif sign * slope + k * se < 0:
@@ -628,7 +632,7 @@ def _trend_check(a, points, trends, check_id: str, key: str, direction: str) -> 
                    f"of the paper, on the {a.tier} tier's beds")
         else:
             status = "unresolved"
-            why = f"the {fit_text} is within {k:g} SE of 0"
+            why = f"the {fit_text} is within {k:.3g} SE of 0"
     return [trends._result(a, d, check, status, slope, expected, tolerance, why, detail)]
 
 

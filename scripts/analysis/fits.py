@@ -277,6 +277,14 @@ def t_quantile(level: float, dof: float) -> float:
     return float(stats.t.ppf(0.5 * (1.0 + level), dof))
 
 
+def widened_k(k: float, dof: float) -> float:
+    """The multiple of the SE that a rule stated as "k SE" (the large-sample, normal
+    limit: two-sided level erf(k / sqrt 2), 95.4 % at k = 2) needs for an estimate with
+    `dof` degrees of freedom: t_quantile at that level. k itself when dof is infinite;
+    14.0 for k = 2 at one degree of freedom, 2.09 at 20. NaN for dof < 1."""
+    return t_quantile(math.erf(k / math.sqrt(2.0)), dof)
+
+
 def mean_interval(values: Sequence[float], level: float) -> dict:
     """Mean of the finite values with its two-sided Student t interval at `level`:
     mean +- k sem, k = t_quantile(level, n - 1). Interval NaN for n < 2."""

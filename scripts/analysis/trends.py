@@ -89,12 +89,16 @@ class CheckDef:
 #: within the realizations' spread, which is of this order at the paper's scale.
 FLAT_RESOLUTION = 0.25
 
+#: The slope rules' k is the large-sample multiple; a fit of n runs has n - 2 dof, and
+#: with few of them "k SE" over-claims (one dof needs 14 SE for k = 2's level).
+_WIDENED = ("; k is the tier's, widened to the Student t quantile at the fit's dof "
+            "(n - 2) for the two-sided level k has in the normal limit (fits.widened_k)")
 _K_MONOTONE = {"quick": {"k": 2.0}, "standard": {"k": 2.0}, "paper": {"k": 2.0}}
 _K_MONOTONE_REASONS = {
     "quick": "k = 2 as at every tier: a pass claims the sign at about 97.5 % one-sided "
              "confidence whatever the bed; a CI-scale bed's wider scatter reads not resolved",
     "standard": "k = 2: the slope differs from zero at about 97.5 % one-sided confidence "
-                "for a normal estimate; fewer realizations than the paper widen SE, not k",
+                "for a normal estimate; fewer realizations widen SE and, through the fit's dof, k",
     "paper": "k = 2: the slope differs from zero at about 97.5 % one-sided confidence "
              "for a normal estimate (5 realizations per point)",
 }
@@ -136,7 +140,7 @@ CHECKS: dict[str, CheckDef] = {c.id: c for c in (
         figure="Fig. 3b",
         rule="linear fit of P_max over all completed realizations: pass slope + k SE(slope) < 0; "
              "opposite resolved: slope - k SE(slope) > 0; else not resolved "
-             "(quadratic fit reported); needs >= 2 angles and >= 3 runs",
+             "(quadratic fit reported); needs >= 2 angles and >= 3 runs" + _WIDENED,
         tolerance=_K_MONOTONE,
         reason="paper: the steady-state peak pressure decreases with the opening angle "
                "theta_c, close to linearly (Fig. 3b)",
@@ -168,7 +172,7 @@ CHECKS: dict[str, CheckDef] = {c.id: c for c in (
         figure="Fig. 3d",
         rule="linear fit of P_max over all completed realizations: pass slope - k SE(slope) > 0; "
              "opposite resolved: slope + k SE(slope) < 0; else not resolved; "
-             "needs >= 2 ratios and >= 3 runs",
+             "needs >= 2 ratios and >= 3 runs" + _WIDENED,
         tolerance=_K_MONOTONE,
         reason="paper: the peak pressure increases with alpha_c/alpha_p, the container strain "
                "per cycle and so the energy input (Fig. 3d)",
@@ -194,7 +198,7 @@ CHECKS: dict[str, CheckDef] = {c.id: c for c in (
              "pass |slope| <= k SE(slope) while k SE(slope) times the swept range is at most "
              "FLAT_RESOLUTION of the mean W_rms (else not resolved: a change that large would "
              "have gone unseen); opposite resolved: |slope| > k SE(slope); needs >= 2 angles "
-             "and >= 3 runs",
+             "and >= 3 runs" + _WIDENED,
         tolerance={"quick": {"k": 3.0}, "standard": {"k": 2.5}, "paper": {"k": 2.0}},
         reason="paper: W_rms is practically independent of theta_c at every stage of the "
                "cycling (horizontal linear fits within the error bars, Fig. 7a)",
@@ -209,7 +213,7 @@ CHECKS: dict[str, CheckDef] = {c.id: c for c in (
         figure="Fig. 7b",
         rule="linear fit of W_rms over all completed realizations, per vorticity window: "
              "pass slope - k SE(slope) > 0; opposite resolved: slope + k SE(slope) < 0; else "
-             "not resolved; needs >= 2 ratios and >= 3 runs",
+             "not resolved; needs >= 2 ratios and >= 3 runs" + _WIDENED,
         tolerance=_K_MONOTONE,
         reason="paper: the magnitude of the vorticity increases monotonically with alpha_c "
                "(Fig. 7b)",
@@ -355,7 +359,7 @@ CHECKS.update({c.id: c for c in (
         rule="per run the first cycle whose peak pressure lies in the steady band: mean of the "
              "second half of the cycles +- max(2 sigma, 5 % of it), sigma their standard "
              "deviation; linear fit over all runs: pass slope + k SE < 0; opposite resolved: "
-             "slope - k SE > 0; else not resolved; skipped below min_cycles",
+             "slope - k SE > 0; else not resolved; skipped below min_cycles" + _WIDENED,
         tolerance=_K_STEADY,
         reason="paper: the steady state comes sooner at larger opening angles",
         tier_reasons=_K_STEADY_REASONS),
@@ -365,7 +369,7 @@ CHECKS.update({c.id: c for c in (
         rule="per run the mean V/V0 at the end of cooling over the second half of the cycles; "
              "linear fit over all runs: pass |slope| <= k SE while k SE x range is at most "
              "FLAT_RESOLUTION of the mean (else not resolved); opposite resolved: |slope| > k SE; "
-             "skipped below min_cycles",
+             "skipped below min_cycles" + _WIDENED,
         tolerance={"quick": {"k": 3.0, "min_cycles": 6}, "standard": {"k": 2.5, "min_cycles": 6},
                    "paper": {"k": 2.0, "min_cycles": 6}},
         reason="paper: the same steady density for all parameters (Fig. 4)",
@@ -379,7 +383,7 @@ CHECKS.update({c.id: c for c in (
         rule="per run the mean over the second half of the cycles of V/V0 at the end of heating "
              "minus V/V0 at the end of cooling (the dilation the cooling takes back; our reading "
              "of the paper's words); linear fit over all runs: pass slope - k SE > 0; opposite "
-             "resolved: slope + k SE < 0; else not resolved; skipped below min_cycles",
+             "resolved: slope + k SE < 0; else not resolved; skipped below min_cycles" + _WIDENED,
         tolerance=_K_STEADY,
         reason="paper: the dilation during cooling is weaker at small alpha_c (Fig. 4b): with "
                "alpha_c near alpha_p bed and container shrink alike, the swing is the grains' own",
@@ -581,16 +585,18 @@ def _slope_check(a: Analysis, definition: CheckDef, metric: str, check: str,
                      f"{info['n_runs']} runs at {len(groups)} {a.x_label} values: the slope "
                      "has no standard error (needs >= 3 runs)", tier)
     slope, se = fit.slope, fit.slope_se
+    k_tier, k = k, fits.widened_k(k, fit.dof)  # few runs: Student t at the fit's dof
     unit = f" per {X_UNITS[a.kind]}" if X_UNITS[a.kind] else ""
     if se > 0:
         in_se = slope / se
     else:  # no scatter: any nonzero slope is resolved
         in_se = math.copysign(math.inf, slope) if slope else 0.0
-    detail = {"k": k, "slope": slope, "se": se, "slope_in_se": in_se, "n": fit.n,
+    detail = {"k": k, "k_tier": k_tier, "slope": slope, "se": se, "slope_in_se": in_se, "n": fit.n,
               "dof": fit.dof, "points": int(len(groups))}
+    k_text = f"{k:.3g} SE ({k_tier:g} SE widened to Student t at {fit.dof} dof)"
     if direction == "flat":
         expected = "0"
-        tolerance = f"abs {k:g} SE = {k * se:.4g} (SE {se:.4g}{unit})"
+        tolerance = f"abs {k_text} = {k * se:.4g} (SE {se:.4g}{unit})"
         span = float(groups["x"].max() - groups["x"].min())
         mean = float(np.average(groups["mean"], weights=groups["n"]))
         unseen = k * se * span
@@ -608,7 +614,7 @@ def _slope_check(a: Analysis, definition: CheckDef, metric: str, check: str,
     else:
         sign = -1.0 if direction == "decrease" else 1.0
         expected = "< 0" if direction == "decrease" else "> 0"
-        tolerance = f"{k:g} SE beyond 0 (SE {se:.4g}{unit})"
+        tolerance = f"{k_text} beyond 0 (SE {se:.4g}{unit})"
         if sign * slope - k * se > 0:
             status, why = "passed", ""
         elif sign * slope + k * se < 0:
@@ -617,7 +623,7 @@ def _slope_check(a: Analysis, definition: CheckDef, metric: str, check: str,
                    f"{'above' if sign < 0 else 'below'} 0, the opposite of the paper")
         else:
             status = "unresolved"
-            why = f"the slope {slope:.3g} +- {se:.2g}{unit} ({in_se:.2g} SE) is within {k:g} SE of 0"
+            why = f"the slope {slope:.3g} +- {se:.2g}{unit} ({in_se:.2g} SE) is within {k:.3g} SE of 0"
     return _result(a, definition, check, status, slope, expected, tolerance, why, detail)
 
 

@@ -216,6 +216,16 @@ def test_curvature_test_needs_a_scatter_estimate():
         fits.curvature_test([0.0, 1.0, 2.0], [0.0, 1.0, 4.0])
 
 
+def test_a_k_se_rule_widens_to_student_t_at_its_dof():
+    # k = 2 is 95.45 % two-sided in the normal limit; Student t at that level.
+    assert fits.widened_k(2.0, 1) == pytest.approx(13.968, abs=1e-3)
+    assert fits.widened_k(2.0, 8) == pytest.approx(2.3664, abs=1e-3)
+    assert fits.widened_k(2.0, 1e9) == pytest.approx(2.0, abs=1e-6)
+    ks = [fits.widened_k(2.5, dof) for dof in (1, 2, 5, 20, 100)]
+    assert ks == sorted(ks, reverse=True) and ks[-1] > 2.5
+    assert math.isnan(fits.widened_k(2.0, 0))
+
+
 def test_t_quantile_and_mean_interval_are_student_t():
     assert fits.t_quantile(0.95, 4) == pytest.approx(2.776445, rel=1e-6)
     assert math.isnan(fits.t_quantile(0.95, 0))
