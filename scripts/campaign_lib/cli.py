@@ -19,6 +19,7 @@ from . import golden, state
 from .assemble import assemble
 from .engine import EngineError, identify, stale_sources
 from .plan import PlanError, load_plan, resolve
+from .recheck import recheck
 from .runner import Runner, shown
 
 USAGE_EXAMPLES = """
@@ -28,8 +29,10 @@ examples:
   scripts/campaign paper --budget 2.5 --jobs 2 --commit
   scripts/campaign paper --budget 23 --jobs 64 --mpirun          # a cluster allocation
   scripts/campaign paper --assemble out/campaign/paper-sweeps
-exit status: 0 nothing failed (whether or not the plan is finished); 1 a run failed;
-2 bad plan, option or engine; 130/143 stopped by SIGINT/SIGTERM (runs resumable).
+  scripts/campaign paper --recheck-golden OLD/ratchet --commit   # golden/ moved on, the engine did not
+exit status: 0 nothing failed (whether or not the plan is finished); 1 a run failed
+(--recheck-golden: the check failed); 2 bad plan, option or engine (--recheck-golden: no
+stored run of that binary); 130/143 stopped by SIGINT/SIGTERM (runs resumable).
 """
 
 
@@ -87,6 +90,10 @@ def parser() -> argparse.ArgumentParser:
     mode.add_argument("--dry-run", action="store_true", help="print what would run (within --budget if given)")
     mode.add_argument("--assemble", metavar="OUTDIR", help="write the stored results as sweep folders "
                       "OUTDIR/<part>/ (summary.csv, runs/<id>/) for scripts/trends; run nothing")
+    mode.add_argument("--recheck-golden", metavar="BIN", help="the bit-for-bit golden check of an earlier "
+                      "engine binary on today's golden data; if it passes, the stored runs that binary made "
+                      "(same SHA-256) record it, and stay reusable by an engine that passes it too; run nothing "
+                      "else")
     p.add_argument("--budget", type=positive("--budget"), metavar="HOURS",
                    help="wall-clock hours this invocation may take (required to run)")
     p.add_argument("--jobs", type=whole, default=1, help="runs at a time (default 1)")
@@ -237,13 +244,19 @@ def main(argv=None) -> int:
         if REPO_ROOT in work.parents and not (REPO_ROOT / "out") in [work, *work.parents]:
             raise UsageError(f"--out {work}: the work folder holds large files; put it under out/ or outside "
                              "the repository")
-        running = not (args.status or args.dry_run or args.assemble)
+        running = not (args.status or args.dry_run or args.assemble or args.recheck_golden)
         if running and args.budget is None:
             raise UsageError("--budget HOURS is required to run (or give --status, --dry-run or --assemble)")
     except (PlanError, EngineError, UsageError) as error:
         print(f"campaign: error: {error}", file=sys.stderr, flush=True)
         return 2
 
+    if args.recheck_golden:
+        try:
+            return recheck(plan, work, results, Path(args.recheck_golden).resolve(), args.commit, say)
+        except EngineError as error:
+            print(f"campaign: error: {error}", file=sys.stderr, flush=True)
+            return 2
     newer = stale_sources(engine.binary)
     if newer:
         say(f"warning: {len(newer)} engine source file(s) are newer than {shown(engine.binary)} (e.g. "

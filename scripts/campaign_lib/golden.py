@@ -1,7 +1,9 @@
 """The bit-for-bit golden check of an engine: `regression/run --all --tol-scale 0`
 against golden/ (docs/regression.md), once per engine and golden data, cached in the
 work folder. Its record goes into every stored run's provenance, and is what lets a
-result of another engine be reused (docs/campaign.md, "The reuse rule")."""
+result of another engine be reused (docs/campaign.md, "The reuse rule"). An earlier
+engine's binary can be checked again on today's golden data (recheck_stored): its
+stored runs then carry that record too."""
 
 from __future__ import annotations
 
@@ -72,6 +74,28 @@ def run_check(work: Path, engine: Engine, say) -> dict:
         verdict += " (golden/ has uncommitted changes: not counted as a pass)"
     say(f"golden check of engine {engine.short}: {verdict}")
     return record
+
+
+#: The field of provenance.json with the later golden checks of the run's engine.
+RECHECKS = "golden_rechecks"
+
+
+def passes_of(provenance: dict) -> list:
+    """The golden checks a stored run's engine passed: the one made when it was stored,
+    and those made later on newer golden data (recheck_stored)."""
+    checks = [provenance.get("golden_check"), *provenance.get(RECHECKS, [])]
+    return [c for c in checks if isinstance(c, dict) and c.get("passed")]
+
+
+def add_recheck(provenance: dict, record: dict) -> bool:
+    """Adds a passed check of the run's engine on golden data it has no pass for; True
+    if it was added."""
+    if not record.get("passed") or record.get("golden_dirty"):
+        return False
+    if any(c.get("golden_tree") == record.get("golden_tree") for c in passes_of(provenance)):
+        return False
+    provenance.setdefault(RECHECKS, []).append(record)
+    return True
 
 
 def same_golden_pass(old: dict | None, new: dict | None) -> bool:

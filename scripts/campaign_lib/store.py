@@ -14,7 +14,7 @@ from pathlib import Path
 from common.fsutil import write_atomic
 
 from .engine import same_engine
-from .golden import same_golden_pass
+from .golden import passes_of, same_golden_pass
 from .plan import Run, same_json
 
 PROVENANCE = "provenance.json"
@@ -62,18 +62,19 @@ def judge(stored: Stored, scene: dict, engine: dict, golden_now: dict | None) ->
     old = stored.provenance.get("engine", {})
     if same_engine(old, engine):
         return Verdict(True, "same engine")
-    old_check = stored.provenance.get("golden_check")
-    if same_golden_pass(old_check, golden_now):
+    passes = passes_of(stored.provenance)
+    if any(same_golden_pass(check, golden_now) for check in passes):
         return Verdict(True, f"engine {str(old.get('engine_commit'))[:10]} -> current: both pass the "
                              "bit-for-bit golden check on the same golden data")
-    if not (old_check and old_check.get("passed")):
+    if not passes:
         why = "no golden pass recorded for its engine"
     elif golden_now is None:
         why = "the current engine's golden check has not been run"
     elif not golden_now.get("passed"):
         why = "the current engine fails the bit-for-bit golden check"
     else:
-        why = "the two golden checks used different golden data"
+        why = ("the two golden checks used different golden data (--recheck-golden with its binary "
+               "checks it on today's)")
     dirty = "+dirty" if old.get("engine_dirty") else ""
     return Verdict(False, f"engine {str(old.get('engine_commit'))[:10]}{dirty} is not the current one and {why}")
 

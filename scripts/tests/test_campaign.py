@@ -3,7 +3,8 @@ quick bed cut to 12 polyhedra, a loose settle threshold and h = 0.005, 2 points 
 seeds (about a second of CPU for all four runs). Checked: runs stored with their
 provenance; a second invocation runs nothing; a budget that ends mid-run leaves a run
 that the next invocation completes with the bytes of an uninterrupted run; stale results
-are rerun and results of an engine that passed the golden check are reused; bad plans
+are rerun and results of an engine that passed the golden check are reused (also after a
+recheck of its binary on newer golden data); bad plans
 are refused naming the file and the field; --assemble gives sweep folders that
 scripts/analysis/inputs.py reads; --commit commits each stored run."""
 
@@ -22,7 +23,7 @@ sys.path.insert(0, str(SCRIPTS))
 
 from analysis.inputs import load_sweep, read_cycles, displacement_files  # noqa: E402
 from campaign_lib import golden  # noqa: E402
-from campaign_lib.engine import identify  # noqa: E402
+from campaign_lib.engine import file_sha256, identify  # noqa: E402
 from common.paths import REPO_ROOT, engine_binary  # noqa: E402
 
 RATCHET = engine_binary()
@@ -193,6 +194,61 @@ def test_stale_results_are_rerun_and_golden_checked_ones_reused(tiny, tmp_path):
     assert p["golden_check"]["passed"] is True          # the current engine's record
     assert (results / "theta0/seed1/cycles.csv").read_bytes() == \
         (root / "results" / "theta0/seed1/cycles.csv").read_bytes()
+
+
+def test_an_earlier_engine_rechecked_on_newer_golden_data_keeps_its_runs(tiny, tmp_path):
+    # The stored runs' engine: the same program with a byte appended (another SHA-256,
+    # the same arithmetic), checked when stored on golden data that has since moved on.
+    root, plan, _ = tiny
+    results, work = tmp_path / "results", tmp_path / "work"
+    shutil.copytree(root / "results", results)
+    old_binary = tmp_path / "old" / "ratchet"
+    old_binary.parent.mkdir()
+    old_binary.write_bytes(RATCHET.read_bytes() + b"\0")
+    old_binary.chmod(0o755)
+    state = golden.golden_state()
+    earlier = {"passed": True, "golden_tree": "0" * 40, "golden_dirty": False}
+    for label in ("theta6/seed1", "theta6/seed2"):
+        fake_other_engine(results, label, earlier)
+        path = results / label / "provenance.json"
+        p = json.loads(path.read_text())
+        p["engine"]["binary_sha256"] = file_sha256(old_binary)
+        path.write_text(json.dumps(p))
+    engine = identify(RATCHET)
+    cache = golden.cache_file(work, engine, state)
+    cache.parent.mkdir(parents=True)
+    cache.write_text(json.dumps({"passed": True, **state, "engine": engine.record()}))
+    line = next(l for l in campaign(plan, work, results, "--status").stdout.splitlines() if "theta6/seed1" in l)
+    assert "STALE" in line and "different golden data (--recheck-golden" in line, line
+
+    # A binary no stored run names: nothing to check. One that fails the check: nothing written.
+    failing = tmp_path / "failing" / "ratchet"
+    failing.parent.mkdir()
+    failing.write_text(f"#!/bin/sh\n[ \"$1\" = --version ] && exec {RATCHET} --version\nexit 3\n")
+    failing.chmod(0o755)
+    none = campaign(plan, work, results, "--recheck-golden", str(failing), check=False)
+    assert none.returncode == 2 and "no stored run of plan tiny" in none.stdout
+    for label in ("theta6/seed1", "theta6/seed2"):
+        p = json.loads((results / label / "provenance.json").read_text())
+        p["engine"]["binary_sha256"] = file_sha256(failing)
+        (results / label / "provenance.json").write_text(json.dumps(p))
+    failed = campaign(plan, work / "f", results, "--recheck-golden", str(failing), check=False)
+    assert failed.returncode == 1 and "failed" in failed.stdout, failed.stdout + failed.stderr
+    assert golden.RECHECKS not in provenance(results, "theta6/seed1")
+
+    for label in ("theta6/seed1", "theta6/seed2"):
+        p = json.loads((results / label / "provenance.json").read_text())
+        p["engine"]["binary_sha256"] = file_sha256(old_binary)
+        (results / label / "provenance.json").write_text(json.dumps(p))
+    done = campaign(plan, work, results, "--recheck-golden", str(old_binary))
+    assert "passed; recorded in 2 of its 2 stored run(s)" in done.stdout, done.stdout
+    p = provenance(results, "theta6/seed1")
+    assert [c["golden_tree"] for c in p[golden.RECHECKS]] == [state["golden_tree"]]
+    assert p["golden_check"] == earlier   # the record made when it was stored stays
+    status = campaign(plan, work, results, "--status").stdout
+    assert "4 of 4 runs stored and current, 0 stale" in status, status
+    again = campaign(plan, work, results, "--recheck-golden", str(old_binary))
+    assert "recorded in 0 of its 2 stored run(s) (all had it)" in again.stdout
 
 
 @pytest.mark.parametrize("change, field", [
