@@ -5,6 +5,10 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <cstring>
+#include <random>
+
 namespace ratchet {
 namespace {
 
@@ -22,6 +26,44 @@ TEST(SolverRows, AnImpulseChangesTheLocalVelocityByWTimesIt) {
   apply_local_impulse(r, Vec3(0.25, 0.5, 0.0), B, false);
   EXPECT_EQ(local_velocity(r, B, false) - before, Vec3(0.5, 1.0, 0.0));  // exact in binary
   EXPECT_EQ(v[0] + v[1], Vec3(0, 0, 0));  // momentum kept: equal and opposite
+}
+
+TEST(SolverRows, TheNormalVelocityAloneHasTheBitsOfTheLocalVelocitysFirstComponent) {
+  // The sweep decides an unloaded row by normal_velocity; it must be local_velocity()[0]
+  // to the last bit, for a wall partner too, with and without rotation.
+  std::mt19937_64 rng(29);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  auto vec = [&] {
+    const double x = unit(rng), y = unit(rng), z = unit(rng), size = std::pow(10.0, 3.0 * unit(rng));
+    return Vec3(x * size, y * size, z * size);
+  };
+  std::vector<Vec3> v(2), w(2);
+  const std::vector<double> inv_mass = {1.0, 1.0};
+  const std::vector<Mat3> inv_inertia(2, Mat3::Zero());
+  const BodyArrays B{v.data(), w.data(), inv_mass.data(), inv_inertia.data()};
+  int compared = 0;
+  for (int k = 0; k < 20000; ++k) {
+    SolverRow r;
+    r.a = 0;
+    r.b = k % 4 == 0 ? wall_side(2) : 1;
+    for (int c = 0; c < 3; ++c) {
+      const Vec3 f = vec(), ja = vec(), jb = vec();
+      for (int i = 0; i < 3; ++i) {
+        r.F(i, c) = f[i];
+        r.Ja(c, i) = ja[i];
+        r.Jb(c, i) = jb[i];
+      }
+    }
+    r.u0 = vec();
+    v = {vec(), vec()};
+    w = {vec(), vec()};
+    for (bool rotation : {false, true}) {
+      const double full = local_velocity(r, B, rotation)[0], alone = normal_velocity(r, B, rotation);
+      ASSERT_EQ(std::memcmp(&full, &alone, sizeof(double)), 0) << k << " " << full << " " << alone;
+      ++compared;
+    }
+  }
+  EXPECT_EQ(compared, 40000);
 }
 
 TEST(SolverRows, TheJamDetectorNeedsUnconvergedGrowthByHalf) {

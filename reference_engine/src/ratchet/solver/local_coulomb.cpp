@@ -52,43 +52,82 @@ double slide_residual(const SlideTrial& s, const Eigen::Vector2d& d) {
 // instead of tau: the same first-order step, so convergence stays quadratic, and no
 // sin/cos is evaluated (they took a third of the local solve). Converges in a few steps
 // where the fixed point is not contractive (u_t small against the coupling mu W_tt near
-// the stick boundary). True, with the direction in da, when it ends at an admissible
-// sliding direction (lambda_n >= 0, u_t against d); t is then the slide trial of da.
-bool newton_slide(const Mat3& W, const Vec3& w, double mu, const Eigen::Vector2d& start, Eigen::Vector2d& da,
-                  SlideTrial& t) {
-  const Eigen::Vector2d W_nt(W(0, 1), W(0, 2)), W_tn(W(1, 0), W(2, 0));
+// the stick boundary). One lane is one problem and where its iteration stands.
+struct NewtonLane {
+  const Mat3* W = nullptr;
+  const Vec3* w = nullptr;
+  double mu = 0.0;
+  Eigen::Vector2d W_nt, W_tn, da;
   Eigen::Matrix2d W_tt;
-  W_tt << W(1, 1), W(1, 2), W(2, 1), W(2, 2);
-  da = start;
   double last_step = HUGE_VAL;
-  for (int it = 0; it < kNewtonCap; ++it) {
-    const Eigen::Vector2d dp(-da.y(), da.x());
-    const double denom = W(0, 0) + mu * W_nt.dot(da);
-    if (!(denom > 0.0)) break;
-    const double ln = -w[0] / denom;
-    const double ln_p = w[0] * mu * W_nt.dot(dp) / (denom * denom);
-    const Eigen::Vector2d ut = Eigen::Vector2d(w[1], w[2]) + W_tn * ln + W_tt * (mu * ln * da);
-    const Eigen::Vector2d ut_p = W_tn * ln_p + W_tt * (mu * (ln_p * da + ln * dp));
-    const double g = da.x() * ut.y() - da.y() * ut.x();
-    const double un = ut.norm();
-    if (!(un > 0.0) || std::abs(g) < kSlideResidualFloor * un) break;
-    const double g_p = dp.x() * ut.y() + da.x() * ut_p.y() - dp.y() * ut.x() - da.y() * ut_p.x();
-    if (!(std::abs(g_p) > kDerivativeFloor)) break;
-    double tau = -g / g_p;
-    if (std::abs(tau) > kNewtonMaxStep) tau = tau > 0.0 ? kNewtonMaxStep : -kNewtonMaxStep;  // stay in the basin
-    da = (da + tau * dp).normalized();
-    // Converged to round-off: a step below kNewtonStepTol rad, or a small step no smaller
-    // than the one before (quadratic convergence has reached the rounding floor of g).
-    // The test |g| < 1e-15 |u_t| alone is out of reach near the stick boundary, where u_t
-    // is small against the terms it is summed from: 80 % of the slides of a settled bed
-    // ran to the 30-step cap, a third of the solve phase.
-    const double step = std::abs(tau);
-    if (step < kNewtonStepTol || (step < kNewtonSmallStep && step >= last_step)) break;
-    last_step = step;
-  }
-  t = slide_trial(W, w, mu, da);
+};
+
+NewtonLane newton_lane(const Mat3& W, const Vec3& w, double mu, const Eigen::Vector2d& start) {
+  NewtonLane L;
+  L.W = &W;
+  L.w = &w;
+  L.mu = mu;
+  L.W_nt = Eigen::Vector2d(W(0, 1), W(0, 2));
+  L.W_tn = Eigen::Vector2d(W(1, 0), W(2, 0));
+  L.W_tt << W(1, 1), W(1, 2), W(2, 1), W(2, 2);
+  L.da = start;
+  return L;
+}
+
+// One Newton step of the lane; false when its iteration stops there.
+[[gnu::always_inline]] inline bool newton_step(NewtonLane& L) {
+  const Mat3& W = *L.W;
+  const Vec3& w = *L.w;
+  const double mu = L.mu;
+  const Eigen::Vector2d& W_nt = L.W_nt;
+  const Eigen::Vector2d& W_tn = L.W_tn;
+  const Eigen::Matrix2d& W_tt = L.W_tt;
+  Eigen::Vector2d& da = L.da;
+  const Eigen::Vector2d dp(-da.y(), da.x());
+  const double denom = W(0, 0) + mu * W_nt.dot(da);
+  if (!(denom > 0.0)) return false;
+  const double ln = -w[0] / denom;
+  const double ln_p = w[0] * mu * W_nt.dot(dp) / (denom * denom);
+  const Eigen::Vector2d ut = Eigen::Vector2d(w[1], w[2]) + W_tn * ln + W_tt * (mu * ln * da);
+  const Eigen::Vector2d ut_p = W_tn * ln_p + W_tt * (mu * (ln_p * da + ln * dp));
+  const double g = da.x() * ut.y() - da.y() * ut.x();
+  const double un = ut.norm();
+  if (!(un > 0.0) || std::abs(g) < kSlideResidualFloor * un) return false;
+  const double g_p = dp.x() * ut.y() + da.x() * ut_p.y() - dp.y() * ut.x() - da.y() * ut_p.x();
+  if (!(std::abs(g_p) > kDerivativeFloor)) return false;
+  double tau = -g / g_p;
+  if (std::abs(tau) > kNewtonMaxStep) tau = tau > 0.0 ? kNewtonMaxStep : -kNewtonMaxStep;  // stay in the basin
+  da = (da + tau * dp).normalized();
+  // Converged to round-off: a step below kNewtonStepTol rad, or a small step no smaller
+  // than the one before (quadratic convergence has reached the rounding floor of g).
+  // The test |g| < 1e-15 |u_t| alone is out of reach near the stick boundary, where u_t
+  // is small against the terms it is summed from: 80 % of the slides of a settled bed
+  // ran to the 30-step cap, a third of the solve phase.
+  const double step = std::abs(tau);
+  if (step < kNewtonStepTol || (step < kNewtonSmallStep && step >= L.last_step)) return false;
+  L.last_step = step;
+  return true;
+}
+
+// True, with the direction in da, when the lane ended at an admissible sliding direction
+// (lambda_n >= 0, u_t against d); t is then the slide trial of da.
+bool newton_admissible(const NewtonLane& L, Eigen::Vector2d& da, SlideTrial& t) {
+  da = L.da;
+  t = slide_trial(*L.W, *L.w, L.mu, da);
   return t.valid && t.lambda_n >= 0.0 && t.u_t.dot(da) < 0.0 && t.u_t.norm() > 0.0 &&
          std::abs(slide_residual(t, da)) < kAdmissibleResidual;
+}
+
+bool newton_slide(const Mat3& W, const Vec3& w, double mu, const Eigen::Vector2d& start, Eigen::Vector2d& da,
+                  SlideTrial& t) {
+  NewtonLane L = newton_lane(W, w, mu, start);
+  for (int it = 0; it < kNewtonCap; ++it)
+    if (!newton_step(L)) break;
+  return newton_admissible(L, da, t);
+}
+
+Vec3 slide_impulse(const SlideTrial& f, double mu, const Eigen::Vector2d& d) {
+  return Vec3(f.lambda_n, mu * f.lambda_n * d.x(), mu * f.lambda_n * d.y());
 }
 
 }  // namespace
@@ -97,19 +136,47 @@ LocalSolution solve_local_coulomb(const Mat3& W, const Vec3& w, double mu) {
   return solve_local_coulomb(W, W.inverse(), w, mu);
 }
 
+bool detail::slide_from_hint(const Mat3& W, const Vec3& w, double mu, const Eigen::Vector2d& hint, Vec3& lambda) {
+  Eigen::Vector2d da;
+  SlideTrial f;
+  if (!newton_slide(W, w, mu, hint, da, f)) return false;
+  lambda = slide_impulse(f, mu, da);
+  return true;
+}
+
+void detail::slide_from_hints(const Mat3* const W[2], const Vec3* const w[2], const double mu[2],
+                              const Eigen::Vector2d* const hint[2], Vec3* lambda[2], bool found[2]) {
+  NewtonLane L[2] = {newton_lane(*W[0], *w[0], mu[0], *hint[0]), newton_lane(*W[1], *w[1], mu[1], *hint[1])};
+  bool active[2] = {true, true};
+  // Each lane takes exactly the steps it would alone (at most kNewtonCap).
+  for (int it = 0; it < kNewtonCap && (active[0] || active[1]); ++it) {
+    if (active[0]) active[0] = newton_step(L[0]);
+    if (active[1]) active[1] = newton_step(L[1]);
+  }
+  for (int k = 0; k < 2; ++k) {
+    Eigen::Vector2d da;
+    SlideTrial f;
+    found[k] = newton_admissible(L[k], da, f);
+    if (found[k]) *lambda[k] = slide_impulse(f, mu[k], da);
+  }
+}
+
 LocalSolution detail::solve_local_slide(const Mat3& W, const Vec3& w, double mu, const Vec3& stick, double lt,
                                         const Eigen::Vector2d* hint) {
+  // From the direction the contact slid in at its last solve: in a sweep that is nearly
+  // converged Newton lands on the same admissible root in one or two steps. Any other
+  // outcome goes the cold way, unchanged.
+  LocalSolution sol;
+  sol.status = LocalStatus::Slide;
+  if (hint != nullptr && slide_from_hint(W, w, mu, *hint, sol.lambda)) return sol;
+  return slide_cold(W, w, mu, stick, lt);
+}
+
+LocalSolution detail::slide_cold(const Mat3& W, const Vec3& w, double mu, const Vec3& stick, double lt) {
   LocalSolution sol;
   sol.status = LocalStatus::Slide;
   Eigen::Vector2d da;
   SlideTrial f;
-  // From the direction the contact slid in at its last solve: in a sweep that is nearly
-  // converged Newton lands on the same admissible root in one or two steps. Any other
-  // outcome goes the cold way below, unchanged.
-  if (hint != nullptr && newton_slide(W, w, mu, *hint, da, f)) {
-    sol.lambda = Vec3(f.lambda_n, mu * f.lambda_n * da.x(), mu * f.lambda_n * da.y());
-    return sol;
-  }
   // Slide: find the direction d with u_t(d) = -k d, k > 0. Fixed point
   // d <- -u_t(d)/|u_t(d)| from the stick trial direction; it converges in one step when
   // W_tt is isotropic and W_nt = 0 (a sphere on a plane). Otherwise it is slow to reach

@@ -34,33 +34,63 @@ namespace detail {
 // The sliding branch of solve_local_coulomb below, not an entry point: w[0] < 0, mu > 0,
 // and the stick impulse (stick = -W^-1 w, lt its tangential norm) lies outside the cone.
 // hint: a unit direction to start Newton from (the contact's last slide), or null.
+// It is slide_from_hint, and where that fails or there is no hint, slide_cold.
 LocalSolution solve_local_slide(const Mat3& W, const Vec3& w, double mu, const Vec3& stick, double lt,
                                 const Eigen::Vector2d* hint = nullptr);
+// Newton from the hint alone: true, with the impulse, when it ends at an admissible slide.
+bool slide_from_hint(const Mat3& W, const Vec3& w, double mu, const Eigen::Vector2d& hint, Vec3& lambda);
+// The same for two independent problems at once, each with the bits it has alone: their
+// Newton iterations interleaved, so that one's divisions and square roots wait while the
+// other's run (a slide is a chain of them, and a third of a sweep's rows slide).
+void slide_from_hints(const Mat3* const W[2], const Vec3* const w[2], const double mu[2],
+                      const Eigen::Vector2d* const hint[2], Vec3* lambda[2], bool found[2]);
+LocalSolution slide_cold(const Mat3& W, const Vec3& w, double mu, const Vec3& stick, double lt);
 }  // namespace detail
+
+// What solve_local_coulomb decides before a slide: the open, frictionless and stick
+// cases (true, with sol), or that the contact slides (false, with the stick impulse and
+// its tangential norm, which the slide starts from).
+inline bool solve_local_before_slide(const Mat3& W, const Mat3& W_inv, const Vec3& w, double mu, double shift,
+                                     LocalSolution& sol, Vec3& stick, double& lt) {
+  if (w[0] >= 0.0) return true;  // the gap stays open with no impulse
+  if (mu == 0.0) {
+    sol.lambda = Vec3(solve_local_normal(shift != 0.0 ? W(0, 0) + shift : W(0, 0), w[0]), 0.0, 0.0);
+    sol.status = LocalStatus::Slide;
+    return true;
+  }
+  // Stick: u = 0.
+  stick = -(W_inv * w);
+  lt = std::sqrt(stick[1] * stick[1] + stick[2] * stick[2]);  // no overflow: impulses are O(1)
+  if (stick[0] > 0.0 && lt <= mu * stick[0]) {
+    sol.lambda = stick;
+    sol.status = LocalStatus::Stick;
+    return true;
+  }
+  return false;
+}
+
+// W + shift I (the compliant law's block), formed only for a slide.
+inline Mat3 shifted_block(const Mat3& W, double shift) {
+  Mat3 shifted = W;
+  shifted.diagonal().array() += shift;
+  return shifted;
+}
 
 // The same with W^-1 given (the sweep computes it once per contact and step, not once
 // per local solve). Inline: the open and stick branches are 92 % of the local solves
 // of a settled bed and a few products each, and the call and its returned struct cost
 // about 20 of their 150 instructions (callgrind, docs/performance.md); only the slide
-// is out of line.
+// is out of line. shift != 0: the block is W + shift I (the compliant law, docs/method.md
+// s. 5) and W_inv its inverse; W + shift I is formed only for a slide, which alone needs
+// more of it than its diagonal's first entry.
 inline LocalSolution solve_local_coulomb(const Mat3& W, const Mat3& W_inv, const Vec3& w, double mu,
-                                         const Eigen::Vector2d* slide_hint = nullptr) {
+                                         const Eigen::Vector2d* slide_hint = nullptr, double shift = 0.0) {
   LocalSolution sol;
-  if (w[0] >= 0.0) return sol;  // the gap stays open with no impulse
-  if (mu == 0.0) {
-    sol.lambda = Vec3(solve_local_normal(W(0, 0), w[0]), 0.0, 0.0);
-    sol.status = LocalStatus::Slide;
-    return sol;
-  }
-  // Stick: u = 0.
-  const Vec3 stick = -(W_inv * w);
-  const double lt = std::sqrt(stick[1] * stick[1] + stick[2] * stick[2]);  // no overflow: impulses are O(1)
-  if (stick[0] > 0.0 && lt <= mu * stick[0]) {
-    sol.lambda = stick;
-    sol.status = LocalStatus::Stick;
-    return sol;
-  }
-  return detail::solve_local_slide(W, w, mu, stick, lt, slide_hint);
+  Vec3 stick;
+  double lt = 0.0;
+  if (solve_local_before_slide(W, W_inv, w, mu, shift, sol, stick, lt)) return sol;
+  if (shift == 0.0) return detail::solve_local_slide(W, w, mu, stick, lt, slide_hint);
+  return detail::solve_local_slide(shifted_block(W, shift), w, mu, stick, lt, slide_hint);
 }
 
 // The nearest point of the cone lambda_n >= 0, |lambda_t| <= mu lambda_n along lambda_t

@@ -34,13 +34,52 @@ Vec3 weaker_push(SolverRow& c, const Vec3& w, const Vec3& spring) {
   return cap ? capped : spring;
 }
 
-// One contact of a Gauss-Seidel sweep: solved exactly with the others frozen, its change
-// applied at once. d2 and l2 accumulate |d lambda|^2 and |lambda|^2. Record: also write
-// the row's impulse before and after into x and g (3 each), for the Anderson
-// acceleration, while the row is in cache.
+// A row whose slide is put off to be solved together with another's (sweep): its local
+// problem as the row left it. Its bodies are no other row's until it is finished.
+struct PutOff {
+  int row = -1, group = -1;
+  Mat3 block;  // W, or W + c I
+  Vec3 w, stick;
+  double lt = 0.0;
+  Eigen::Vector2d hint;
+};
+
+// The end of a row's solve: its change applied at once, the impulse before and after
+// recorded into x and g (3 each, Record: for the Anderson acceleration, while the row is
+// in cache), |d lambda|^2 and |lambda|^2 added to d2 and l2.
 template <bool Record>
-[[gnu::always_inline]] inline void solve_row(SolverRow& c, const BodyArrays& B, bool friction, bool rotation,
-                                             double& d2, double& l2, double* x, double* g) {
+[[gnu::always_inline]] inline void finish_row(SolverRow& c, const Vec3& lambda_new, const BodyArrays& B,
+                                              bool rotation, double& d2, double& l2, double* x, double* g) {
+  const Vec3 d = lambda_new - c.lambda;
+  if (d.squaredNorm() > 0.0) apply_local_impulse(c, d, B, rotation);
+  if constexpr (Record) {
+    for (int j = 0; j < 3; ++j) { x[j] = c.lambda[j]; g[j] = lambda_new[j]; }
+  }
+  c.lambda = lambda_new;
+  d2 += d.squaredNorm();
+  l2 += lambda_new.squaredNorm();
+}
+
+// One contact of a Gauss-Seidel sweep: solved exactly with the others frozen, its change
+// applied at once. With put_off (a coloured sweep), a slide that starts from its last
+// direction is not solved here: the row's problem goes into *put_off, nothing of the
+// row is changed, and the caller finishes it (true).
+template <bool Record>
+[[gnu::always_inline]] inline bool solve_row(SolverRow& c, const BodyArrays& B, bool friction, bool rotation,
+                                             double& d2, double& l2, double* x, double* g,
+                                             PutOff* put_off = nullptr) {
+  // A row with no impulse whose gap stays open keeps none, with the bits of the full
+  // solve below (w = u - W 0 + b, and every local law gives 0 for w_n >= 0; d and the
+  // sums add exact zeros): its normal velocity decides, not the whole local velocity.
+  // Not for capped rows, whose second law can push an open row (weaker_push).
+  if (friction && c.bias_capped == 0.0 && c.lambda[0] == 0.0 && c.lambda[1] == 0.0 && c.lambda[2] == 0.0 &&
+      normal_velocity(c, B, rotation) + c.bias >= 0.0) {
+    if constexpr (Record) {
+      for (int j = 0; j < 3; ++j) { x[j] = c.lambda[j]; g[j] = 0.0; }
+    }
+    c.lambda.setZero();
+    return false;
+  }
   const Vec3 u = local_velocity(c, B, rotation);
   Vec3 lambda_new;
   if (friction) {
@@ -49,14 +88,24 @@ template <bool Record>
     w[0] += c.bias;
     Eigen::Vector2d hint;  // the last slide's direction starts Newton (local_coulomb.hpp)
     const Eigen::Vector2d* slid = slide_direction(c.lambda, c.mu, hint) ? &hint : nullptr;
-    if (c.compliance > 0.0) {  // the local law on u + c lambda: the block W + c I (docs/method.md s. 5)
-      Mat3 Wc = c.W;
-      Wc.diagonal().array() += c.compliance;
-      lambda_new = solve_local_coulomb(Wc, c.W_inv, w, c.mu, slid).lambda;
-      if (c.bias_capped != 0.0) lambda_new = weaker_push(c, w, lambda_new);
+    const double shift = c.compliance > 0.0 ? c.compliance : 0.0;  // the compliant law: the block W + c I (docs/method.md s. 5)
+    LocalSolution sol;
+    Vec3 stick;
+    double lt = 0.0;
+    if (solve_local_before_slide(c.W, c.W_inv, w, c.mu, shift, sol, stick, lt)) {
+      lambda_new = sol.lambda;
+    } else if (put_off != nullptr && slid != nullptr && c.bias_capped == 0.0) {
+      put_off->block = shift != 0.0 ? shifted_block(c.W, shift) : c.W;
+      put_off->w = w;
+      put_off->stick = stick;
+      put_off->lt = lt;
+      put_off->hint = hint;
+      return true;
     } else {
-      lambda_new = solve_local_coulomb(c.W, c.W_inv, w, c.mu, slid).lambda;
+      lambda_new = (shift != 0.0 ? detail::solve_local_slide(shifted_block(c.W, shift), w, c.mu, stick, lt, slid)
+                                 : detail::solve_local_slide(c.W, w, c.mu, stick, lt, slid)).lambda;
     }
+    if (c.bias_capped != 0.0) lambda_new = weaker_push(c, w, lambda_new);
   } else {
     const double w_n = u[0] - c.W(0, 0) * c.lambda[0] + c.bias;
     double l_n = solve_local_normal(c.W(0, 0) + c.compliance, w_n);
@@ -68,15 +117,64 @@ template <bool Record>
     }
     lambda_new = Vec3(l_n, 0.0, 0.0);
   }
-  const Vec3 d = lambda_new - c.lambda;
-  if (d.squaredNorm() > 0.0) apply_local_impulse(c, d, B, rotation);
-  if constexpr (Record) {
-    for (int j = 0; j < 3; ++j) { x[j] = c.lambda[j]; g[j] = lambda_new[j]; }
-  }
-  c.lambda = lambda_new;
-  d2 += d.squaredNorm();
-  l2 += lambda_new.squaredNorm();
+  finish_row<Record>(c, lambda_new, B, rotation, d2, l2, x, g);
+  return false;
 }
+
+// The slides put off in a coloured sweep, one held at a time: a second one is solved with
+// it (their Newton iterations interleaved, detail::slide_from_hints, each with the bits it
+// has alone), and a held one is solved alone before the next row of its own group and at
+// the end of the thread's share of a colour. Rows of other groups of the colour touch
+// other bodies, so solving a row later among them changes no bit; its group's sums still
+// get its terms in row order. gs: the per-group sums (|d lambda|^2, |lambda|^2).
+template <bool Record>
+struct SlidePairing {
+  SolverRow* rows;
+  const BodyArrays& B;
+  bool rotation;
+  double* gs;
+  double* x;
+  double* g;
+  PutOff held, next;
+  bool holding = false;
+
+  [[gnu::always_inline]] void finish(const PutOff& p, const Vec3& lambda) {
+    finish_row<Record>(rows[p.row], lambda, B, rotation, gs[2 * p.group], gs[2 * p.group + 1],
+                       Record ? x + 3 * p.row : x, Record ? g + 3 * p.row : g);
+  }
+  Vec3 cold(const PutOff& p) { return detail::slide_cold(p.block, p.w, rows[p.row].mu, p.stick, p.lt).lambda; }
+  void solve_held() {
+    if (!holding) return;
+    Vec3 lambda;
+    if (!detail::slide_from_hint(held.block, held.w, rows[held.row].mu, held.hint, lambda)) lambda = cold(held);
+    finish(held, lambda);
+    holding = false;
+  }
+  void solve_pair() {
+    const Mat3* W[2] = {&held.block, &next.block};
+    const Vec3* w[2] = {&held.w, &next.w};
+    const double mu[2] = {rows[held.row].mu, rows[next.row].mu};
+    const Eigen::Vector2d* hint[2] = {&held.hint, &next.hint};
+    Vec3 lambda[2];
+    Vec3* out[2] = {&lambda[0], &lambda[1]};
+    bool found[2];
+    detail::slide_from_hints(W, w, mu, hint, out, found);
+    finish(held, found[0] ? lambda[0] : cold(held));
+    finish(next, found[1] ? lambda[1] : cold(next));
+    holding = false;
+  }
+  void row(int k, int grp, bool friction) {
+    if (holding && held.group == grp) solve_held();  // it comes first in its group
+    PutOff& slot = holding ? next : held;
+    if (!solve_row<Record>(rows[k], B, friction, rotation, gs[2 * grp], gs[2 * grp + 1],
+                           Record ? x + 3 * k : x, Record ? g + 3 * k : g, &slot))
+      return;
+    slot.row = k;
+    slot.group = grp;
+    if (holding) solve_pair();
+    else holding = true;
+  }
+};
 
 // One sweep over the rows in their order, colour by colour (solver/row_colouring.hpp):
 // the groups of a colour share no moving body, so threads split them without changing a
@@ -100,14 +198,17 @@ void sweep(std::vector<SolverRow>& cs, SolverBodies& bodies, const RowColouring*
   const int* gb = col.group_begin.data();
   const int* cb = col.colour_begin.data();
 #pragma omp parallel if (static_cast<int>(cs.size()) > parallel_min_rows)
-  for (int c = 0; c < nc; ++c) {
-#pragma omp for schedule(static)
-    for (int grp = cb[c]; grp < cb[c + 1]; ++grp) {
-      double gd2 = 0.0, gl2 = 0.0;
-      for (int k = gb[grp]; k < gb[grp + 1]; ++k)
-        solve_row<Record>(rows[k], B, friction, rotation, gd2, gl2, Record ? x + 3 * k : x, Record ? g + 3 * k : g);
-      gs[2 * grp] = gd2;
-      gs[2 * grp + 1] = gl2;
+  {
+    SlidePairing<Record> pairing{rows, B, rotation, gs, x, g, {}, {}};
+    for (int c = 0; c < nc; ++c) {
+#pragma omp for schedule(static) nowait
+      for (int grp = cb[c]; grp < cb[c + 1]; ++grp) {
+        gs[2 * grp] = 0.0;
+        gs[2 * grp + 1] = 0.0;
+        for (int k = gb[grp]; k < gb[grp + 1]; ++k) pairing.row(k, grp, friction);
+      }
+      pairing.solve_held();
+#pragma omp barrier
     }
   }
   for (int grp = 0; grp < ng; ++grp) {
