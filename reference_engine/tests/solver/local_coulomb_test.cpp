@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 
 #include "ratchet/core/random.hpp"
 
@@ -97,6 +98,51 @@ TEST(LocalCoulomb, RandomProblemsSatisfySignoriniAndCoulomb) {
   EXPECT_GT(counts[1], 500);  // the random set exercises every branch (834 stick here)
   EXPECT_GT(counts[2], 1000);
   EXPECT_GT(counts[0], 1000);
+}
+
+// Two slides solved together (the sweep's pairs) give each the bits it has alone, from
+// hints near and far (Newton converging in few or many steps, or failing), so that one
+// lane stops while the other goes on.
+TEST(LocalCoulomb, SlidesSolvedInPairsHaveTheBitsOfEachAlone) {
+  Rng rng(29);
+  int pairs = 0, found_both = 0, one_failed = 0;
+  for (int k = 0; k < 4000; ++k) {
+    Mat3 W[2];
+    Vec3 w[2], lambda_alone[2];
+    double mu[2];
+    Eigen::Vector2d hint[2];
+    bool alone[2];
+    for (int j = 0; j < 2; ++j) {
+      W[j] = random_delassus(rng);
+      w[j] = Vec3(uniform(rng, -2, -0.1), uniform(rng, -3, 3), uniform(rng, -3, 3));
+      mu[j] = uniform(rng, 0.05, 1.0);
+      // Near the slide's direction (the exact solve's), or anywhere.
+      const Vec3 exact = solve_local_coulomb(W[j], w[j], mu[j]).lambda;
+      const double spread = (k + j) % 3 == 0 ? 3.0 : 1e-3;
+      Eigen::Vector2d h(exact[1] + spread * uniform(rng, -1, 1), exact[2] + spread * uniform(rng, -1, 1));
+      hint[j] = h.norm() > 0.0 ? Eigen::Vector2d(h.normalized()) : Eigen::Vector2d(1.0, 0.0);
+      alone[j] = detail::slide_from_hint(W[j], w[j], mu[j], hint[j], lambda_alone[j]);
+    }
+    const Mat3* Wp[2] = {&W[0], &W[1]};
+    const Vec3* wp[2] = {&w[0], &w[1]};
+    const Eigen::Vector2d* hp[2] = {&hint[0], &hint[1]};
+    Vec3 lambda_pair[2] = {Vec3::Constant(-7.0), Vec3::Constant(-7.0)};
+    Vec3* out[2] = {&lambda_pair[0], &lambda_pair[1]};
+    bool found[2];
+    detail::slide_from_hints(Wp, wp, mu, hp, out, found);
+    for (int j = 0; j < 2; ++j) {
+      ASSERT_EQ(found[j], alone[j]) << k << " lane " << j;
+      if (found[j]) {
+        ASSERT_EQ(std::memcmp(lambda_pair[j].data(), lambda_alone[j].data(), sizeof(Vec3)), 0) << k;
+      }
+    }
+    ++pairs;
+    found_both += found[0] && found[1];
+    one_failed += found[0] != found[1];
+  }
+  EXPECT_EQ(pairs, 4000);
+  EXPECT_GT(found_both, 1000);  // the lanes' iterations overlap in most pairs
+  EXPECT_GT(one_failed, 50);    // and some pairs have one lane fail (the cold path's case)
 }
 
 // The warm start's clip is project_onto_cone's clip but for its rounding: the two agree
