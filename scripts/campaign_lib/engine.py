@@ -76,6 +76,17 @@ class Engine:
                 "engine_dirty": self.dirty, "engine_sources": list(ENGINE_SOURCES)}
 
 
+def version_of(binary: Path, option: str) -> str:
+    """`BIN --version`; an EngineError naming the option when the binary cannot say it."""
+    try:
+        done = subprocess.run(command("--version", ratchet=binary), capture_output=True, text=True, timeout=60)
+    except OSError as error:
+        raise EngineError(f"{option} {binary}: cannot run it ({error})") from None
+    if done.returncode != 0:
+        raise EngineError(f"{option} {binary}: '--version' failed: {done.stderr.strip()}")
+    return done.stdout.strip()
+
+
 def identify(ratchet: str | os.PathLike | None = None) -> Engine:
     """The engine `ratchet` (--ratchet), else the build's (ratchet.program: $RATCHET_BIN,
     else <$RATCHET_BUILD_DIR or build>/reference_engine/ratchet)."""
@@ -84,14 +95,9 @@ def identify(ratchet: str | os.PathLike | None = None) -> Engine:
     except ProgramNotFound as e:
         raise EngineError(f"--ratchet {e.filename}: no engine binary there (build it: RATCHET_JOBS=1 scripts/build "
                           "-DRATCHET_BUILD_BENCHMARKS=OFF)") from None
-    try:
-        done = subprocess.run(command("--version", ratchet=binary), capture_output=True, text=True, timeout=60)
-    except OSError as error:
-        raise EngineError(f"--ratchet {binary}: cannot run it ({error})") from None
-    if done.returncode != 0:
-        raise EngineError(f"--ratchet {binary}: '--version' failed: {done.stderr.strip()}")
+    version = version_of(binary, "--ratchet")
     state = sources_state(ENGINE_SOURCES)
-    return Engine(binary=binary, version=done.stdout.strip(), binary_sha256=file_sha256(binary),
+    return Engine(binary=binary, version=version, binary_sha256=file_sha256(binary),
                   repo_head=git("rev-parse", "HEAD"), commit=state["commit"], tree=state["tree"],
                   dirty=state["dirty"])
 

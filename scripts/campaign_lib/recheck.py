@@ -7,14 +7,11 @@ provenance, and the reuse rule can pair them with the current engine's check."""
 from __future__ import annotations
 
 import json
-import subprocess
 from pathlib import Path
 
 from common.fsutil import write_atomic
-from ratchet import command
-
 from . import golden, store
-from .engine import Engine, EngineError, file_sha256
+from .engine import Engine, EngineError, file_sha256, version_of
 
 
 def stored_by(plan, results: Path, sha256: str) -> list:
@@ -29,13 +26,7 @@ def stored_by(plan, results: Path, sha256: str) -> list:
 
 def engine_of(binary: Path, record: dict) -> Engine:
     """The binary as the engine its stored runs name (their commit and source tree)."""
-    try:
-        done = subprocess.run(command("--version", ratchet=binary), capture_output=True, text=True, timeout=60)
-    except OSError as error:
-        raise EngineError(f"--recheck-golden {binary}: cannot run it ({error})") from None
-    if done.returncode != 0:
-        raise EngineError(f"--recheck-golden {binary}: '--version' failed: {done.stderr.strip()}")
-    return Engine(binary=binary, version=done.stdout.strip(), binary_sha256=file_sha256(binary),
+    return Engine(binary=binary, version=version_of(binary, "--recheck-golden"), binary_sha256=file_sha256(binary),
                   repo_head=record.get("repo_head"), commit=record.get("engine_commit"),
                   tree=record.get("engine_tree"), dirty=bool(record.get("engine_dirty", True)))
 
