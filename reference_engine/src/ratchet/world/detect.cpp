@@ -61,15 +61,16 @@ void World::prepare_bodies() {
   }
 }
 
-// Common planes of the last step, looked up by pair (both lists are sorted).
+// Common planes of the last step, looked up by pair (both lists are sorted); each slot
+// written once, the kept plane or none.
 void World::load_pair_planes() {
   StepScratch& s = scratch_;
-  s.pair_planes.assign(s.pairs.size(), CommonPlaneCache{});
+  s.pair_planes.resize(s.pairs.size());
   std::size_t j = 0;
   for (std::size_t k = 0; k < s.pairs.size(); ++k) {
     while (j < state_.planes.size() && std::make_pair(state_.planes[j].a, state_.planes[j].b) < s.pairs[k]) ++j;
-    if (j < state_.planes.size() && std::make_pair(state_.planes[j].a, state_.planes[j].b) == s.pairs[k])
-      s.pair_planes[k] = state_.planes[j].cache;
+    const bool kept = j < state_.planes.size() && std::make_pair(state_.planes[j].a, state_.planes[j].b) == s.pairs[k];
+    s.pair_planes[k] = kept ? state_.planes[j].cache : CommonPlaneCache{};
   }
 }
 
@@ -115,9 +116,13 @@ void World::store_pair_manifolds() {
   next.reserve(s.pairs.size());
   int replayed = 0, built = 0;
   for (std::size_t k = 0; k < s.pairs.size(); ++k) {
-    if (s.pair_keep[k].count < 0) continue;
-    next.push_back(s.pair_keep[k]);
-    (s.pair_replayed[k] ? replayed : built) += 1;
+    if (s.pair_replayed[k]) {  // kept as it was (not copied to pair_keep first)
+      next.push_back(state_.manifolds[static_cast<std::size_t>(s.pair_kept[k])]);
+      ++replayed;
+    } else if (s.pair_keep[k].count >= 0) {
+      next.push_back(s.pair_keep[k]);
+      ++built;
+    }
   }
   state_.manifolds.swap(next);
   stats_.manifolds_replayed = replayed;
@@ -139,8 +144,7 @@ void World::collide_reusing(int k, const CollisionBody& a, const CollisionBody& 
                                      b.poly.shape->bounding_radius);
     if (moved <= bound && (kept.count > 0 || kept.gap_bound - moved > margin)) {
       replay_manifold(kept, a.poly, b.poly, m);
-      s.pair_keep[slot] = kept;
-      s.pair_replayed[slot] = 1;
+      s.pair_replayed[slot] = 1;  // store_pair_manifolds keeps it from the state
       if (s.audit_on) audit_replay(slot, a, b, moved);
       return;
     }

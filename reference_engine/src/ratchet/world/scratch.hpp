@@ -55,7 +55,7 @@ struct StepScratch {
   std::vector<ContactManifold> pair_manifolds;
   std::vector<CommonPlaneCache> pair_planes;    // per candidate pair (polyhedron pairs only)
   std::vector<int> pair_kept;                   // per candidate pair: its kept manifold in the state, or -1
-  std::vector<KeptManifold> pair_keep;          // per candidate pair: the manifold to keep (count -1: none)
+  std::vector<KeptManifold> pair_keep;          // per candidate pair: the manifold built to keep (count -1: none; a replayed one stays in the state)
   std::vector<char> pair_replayed;              // per candidate pair: 1 if its kept manifold was replayed
   bool audit_on = false;                        // test hook: replayed pairs compared with fresh builds
   std::vector<PairAudit> pair_audit;
