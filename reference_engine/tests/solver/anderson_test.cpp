@@ -9,6 +9,7 @@
 #include "column_problem.hpp"
 #include "ratchet/scene/scene.hpp"
 #include "ratchet/core/random.hpp"
+#include "ratchet/solver/local_coulomb.hpp"
 
 namespace ratchet {
 namespace {
@@ -45,7 +46,8 @@ TEST(Anderson, SameImpulsesAsPlainSweepsInFarFewerSweeps) {
 TEST(Anderson, MixedImpulsesStayInsideTheirCones) {
   test::Column c(20, 0.04, 0.3);
   std::vector<SolverRow> rows = c.rows;
-  AndersonMixer mixer(4);
+  AndersonBuffers buffers;
+  AndersonMixer mixer(buffers, 4);
   Rng rng(7);
   int mixes = 0;
   // Sweep outputs inside the cones but jumping about (as a flowing bed's contacts do):
@@ -74,6 +76,35 @@ TEST(Anderson, MixedImpulsesStayInsideTheirCones) {
     }
   }
   EXPECT_GT(mixes, 0);
+}
+
+// write_extrapolated writes an all-+0 extrapolation (an open row's) as it is, without
+// the projection: that is exact only while the projection leaves +0 as +0.
+TEST(Anderson, TheConeLeavesPositiveZeroAsItIs) {
+  for (double mu : {0.0, 0.3, 1.0}) {
+    const Vec3 p = project_onto_cone(Vec3(0.0, 0.0, 0.0), mu);
+    for (int j = 0; j < 3; ++j) {
+      EXPECT_EQ(p[j], 0.0) << mu;
+      EXPECT_FALSE(std::signbit(p[j])) << mu << " entry " << j;
+    }
+  }
+}
+
+// The mixer's arrays are kept in the solve's scratch from step to step: a solve after
+// another one, on a smaller problem, gives the bits of a solve with fresh arrays.
+TEST(Anderson, KeptBuffersGiveTheBitsOfFreshOnes) {
+  test::Column first(40, 0.04, 0.5), kept(25, 0.03, 0.4), fresh(25, 0.03, 0.4);
+  SolverBodies b1 = first.bodies();
+  ASSERT_TRUE(solve_nsgs(first.rows, b1, settings(5, 100000, 1e-8), first.scratch).converged);
+  first.scratch.v_free = kept.scratch.v_free;
+  first.scratch.w_free = kept.scratch.w_free;
+  SolverBodies bk = kept.bodies(), bf = fresh.bodies();
+  const SolveResult rk = solve_nsgs(kept.rows, bk, settings(5, 100000, 1e-8), first.scratch);
+  const SolveResult rf = solve_nsgs(fresh.rows, bf, settings(5, 100000, 1e-8), fresh.scratch);
+  EXPECT_EQ(rk.sweeps, rf.sweeps);
+  EXPECT_EQ(rk.residual, rf.residual);
+  for (std::size_t k = 0; k < kept.rows.size(); ++k)
+    for (int j = 0; j < 3; ++j) EXPECT_EQ(kept.rows[k].lambda[j], fresh.rows[k].lambda[j]) << k;
 }
 
 // A rigid jam: a unit mass between a floor and a ceiling that both ask it to move away

@@ -69,6 +69,20 @@ void subtract_block(double* __restrict x, const double* __restrict src, std::siz
 
 }  // namespace
 
+AndersonMixer::AndersonMixer(AndersonBuffers& b, int depth, int parallel_min_rows, double step_bound)
+    : depth_(depth < kMaxDepth ? depth : kMaxDepth),
+      parallel_min_rows_(parallel_min_rows),
+      step_bound_(step_bound),
+      x_(b.x), f_prev_(b.f_prev), g_prev_(b.g_prev), f_(b.f), g_(b.g),
+      vel_(b.vel), vel_prev_(b.vel_prev),
+      dF_(b.dF), dG_(b.dG), dV_(b.dV),
+      weight_(b.weight), partial_(b.partial), raw_(b.raw), vel_mix_(b.vel_mix) {
+  if (depth_ > 0) {
+    gram_ = Eigen::MatrixXd::Zero(depth_, depth_);
+    rhs_ = Eigen::VectorXd::Zero(depth_);
+  }
+}
+
 double* AndersonMixer::record_buffer(std::size_t rows, bool after) {
   std::vector<double>& b = after ? g_ : x_;
   b.resize(3 * rows);
@@ -138,9 +152,10 @@ Vec3 AndersonMixer::extrapolated(std::size_t k, double mu) const { return projec
 
 bool AndersonMixer::plan(const std::vector<SolverRow>& rows) {
   const std::size_t n = 3 * rows.size();
-  if (weight_.size() != rows.size()) {  // W is fixed within a solve: one pass for all sweeps
+  if (!weighted_) {  // W is fixed within a solve: one pass for all sweeps
     weight_.resize(rows.size());
     for (std::size_t k = 0; k < rows.size(); ++k) weight_[k] = std::sqrt(rows[k].W(0, 0));
+    weighted_ = true;
   }
   f_.resize(n);
   // Sums over the unknowns in fixed blocks of kBlock rows, added in block order: the same
@@ -174,8 +189,6 @@ bool AndersonMixer::plan(const std::vector<SolverRow>& rows) {
       dF_.resize(static_cast<std::size_t>(depth_));
       dG_.resize(dF_.size());
       dV_.resize(dF_.size());
-      gram_ = Eigen::MatrixXd::Zero(depth_, depth_);
-      rhs_ = Eigen::VectorXd::Zero(depth_);
     }
     const int h = head_;
     count_ = std::min(count_ + 1, depth_);

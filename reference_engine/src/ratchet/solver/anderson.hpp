@@ -14,6 +14,7 @@
 
 #include <Eigen/Dense>
 
+#include "ratchet/solver/anderson_buffers.hpp"
 #include "ratchet/solver/nsgs.hpp"
 
 namespace ratchet {
@@ -29,9 +30,10 @@ class AndersonMixer {
   // as the sweep did (|dG gamma| <= step_bound |G(x) - x|; 0: no bound). The rigid law
   // needs it: a jam has no solution, and an unbounded extrapolation of its growth makes
   // the impulses so large that the sweep's constant increment is lost in their round-off.
-  explicit AndersonMixer(int depth, int parallel_min_rows = kParallelMinRows, double step_bound = 0.0)
-      : depth_(depth < kMaxDepth ? depth : kMaxDepth), parallel_min_rows_(parallel_min_rows),
-        step_bound_(step_bound) {}
+  // The arrays live in `buffers` (kept between solves: solver/anderson_buffers.hpp); a
+  // mixer starts with no history whatever they hold.
+  AndersonMixer(AndersonBuffers& buffers, int depth, int parallel_min_rows = kParallelMinRows,
+                double step_bound = 0.0);
 
   // The sweep writes x_k (before) and G(x_k) (after) row by row into these contiguous
   // buffers (3 per row) while each row is in cache.
@@ -59,15 +61,17 @@ class AndersonMixer {
   int parallel_min_rows_;  // the passes run in parallel above this many rows (bodies: a quarter)
   double step_bound_;      // 0, or the bound on the extrapolation's step (constructor)
   bool bound_step(std::size_t n);  // scales gamma_ so that the step keeps step_bound_; true if it did
-  std::vector<double> x_, f_prev_, g_prev_, f_, g_;
-  std::vector<double> vel_, vel_prev_;        // body velocities after the sweep (6 per body)
-  std::vector<std::vector<double>> dF_, dG_, dV_;  // ring buffers of columns
-  Eigen::MatrixXd gram_;                      // dF^T dF of the ring's columns
-  Eigen::VectorXd rhs_;                       // dF^T f_k
-  std::vector<double> weight_;                // sqrt(W_nn) per row
-  std::vector<double> partial_;               // per block: the sums of a pass
-  std::vector<double> raw_;                   // the last plan's unprojected impulses (3 per row)
-  mutable std::vector<double> vel_mix_;       // scratch of extrapolated_velocities (6 per body)
+  // The arrays, in AndersonBuffers (named there without the underscore).
+  std::vector<double>&x_, &f_prev_, &g_prev_, &f_, &g_;
+  std::vector<double>&vel_, &vel_prev_;              // body velocities after the sweep (6 per body)
+  std::vector<std::vector<double>>&dF_, &dG_, &dV_;  // ring buffers of columns
+  std::vector<double>& weight_;                      // sqrt(W_nn) per row, set at the solve's first plan
+  std::vector<double>& partial_;                     // per block: the sums of a pass
+  std::vector<double>& raw_;                         // the last plan's unprojected impulses (3 per row)
+  std::vector<double>& vel_mix_;                     // scratch of extrapolated_velocities (6 per body)
+  Eigen::MatrixXd gram_;                             // dF^T dF of the ring's columns
+  Eigen::VectorXd rhs_;                              // dF^T f_k
+  bool weighted_ = false;                            // weight_ holds this solve's rows
   double gamma_[kMaxDepth] = {};              // the last plan's coefficients
   const double* gcols_[kMaxDepth] = {};       // and the dG columns they weigh
   const double* vcols_[kMaxDepth] = {};       // and the dV columns

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 #include "ratchet/solver/anderson.hpp"
 #include "ratchet/solver/local_coulomb.hpp"
@@ -217,6 +218,13 @@ void sweep(std::vector<SolverRow>& cs, SolverBodies& bodies, const RowColouring*
   }
 }
 
+// All three entries +0 (not -0): the bits are all clear.
+inline bool positive_zeros(const Vec3& v) {
+  std::uint64_t b[3];
+  std::memcpy(b, v.data(), sizeof b);
+  return (b[0] | b[1] | b[2]) == 0;
+}
+
 // The extrapolated impulses into the rows, and the body velocities for them: the same
 // mix of the velocity history (they are linear in the impulses), corrected by the rows
 // whose projection onto the cone changed their impulse.
@@ -227,6 +235,10 @@ void write_extrapolated(std::vector<SolverRow>& cs, const AndersonMixer& mixer, 
   auto write = [&](int k) {
     SolverRow& c = cs[static_cast<std::size_t>(k)];
     const Vec3 raw = mixer.unprojected(static_cast<std::size_t>(k));
+    if (positive_zeros(raw)) {  // an open row's: its projection is itself, nothing to apply
+      c.lambda = raw;
+      return;
+    }
     c.lambda = project_onto_cone(raw, c.mu);
     if (c.lambda != raw) apply_local_impulse(c, Vec3(c.lambda - raw), arrays, rotation);
   };
@@ -271,7 +283,7 @@ SolveResult solve_nsgs(std::vector<SolverRow>& cs, SolverBodies& B, const SolveS
   const bool persist_test = set.rigid && set.anderson_depth > 0;
   double normal_first = -1.0, change_first = 0.0, change_last = 0.0;
   std::int64_t tangential = 0;
-  AndersonMixer mixer(set.anderson_depth, set.parallel_min_rows, set.rigid ? kRigidStepBound : 0.0);
+  AndersonMixer mixer(s.anderson, set.anderson_depth, set.parallel_min_rows, set.rigid ? kRigidStepBound : 0.0);
   bool accelerate = set.anderson_depth > 0;
   // Stall guard of the acceleration: the residual must halve within kStallSweeps sweeps
   // of the last halving, or the rest of the solve runs plain sweeps, which contract for

@@ -10,6 +10,7 @@
 
 #include "ratchet/core/contact_side.hpp"
 #include "ratchet/core/types.hpp"
+#include "ratchet/solver/anderson_buffers.hpp"
 #include "ratchet/solver/row_colouring.hpp"
 
 namespace ratchet {
@@ -146,6 +147,7 @@ struct SolveResult {
 struct SolverScratch {
   std::vector<Vec3> v_free, w_free, v_sweep, w_sweep;
   std::vector<double> group_sums;  // per group of the colouring: |d lambda|^2, |lambda|^2 of a sweep
+  AndersonBuffers anderson;        // the acceleration's arrays (solver/anderson_buffers.hpp)
 };
 
 // sum_i m_i |v_i - v0_i|^2 + (w_i - w0_i)^T I_i (w_i - w0_i): twice the kinetic energy of
