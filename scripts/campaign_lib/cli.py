@@ -196,8 +196,8 @@ def print_status(plan, states, estimate, engine, golden_now, work, results) -> N
     stale = sum(1 for s in states if s.stale)
     going = sum(1 for s in states if not s.done and s.started)
     say(f"{done} of {len(states)} runs stored and current, {stale} stale, {going} in progress, "
-        f"{len(left)} to run: about {state.hours(seconds)} of CPU left (a run: {state.hours(estimate.seconds)}, "
-        f"{estimate.source})")
+        f"{len(left)} to run: about {state.hours(seconds)} of run time left, the runs' wall times summed "
+        f"(a run: {state.hours(estimate.seconds)}, {estimate.source})")
 
 
 def print_dry_run(states, estimate, budget, jobs, min_slice) -> None:
@@ -307,7 +307,7 @@ def main(argv=None) -> int:
     seconds = sum(estimate.seconds * (1.0 - s.progress.fraction) for s in left)
     say(f"session over after {state.hours(time.monotonic() - started)}: {len(outcome.stored)} stored, "
         f"{len(outcome.stopped)} stopped at a checkpoint, {len(outcome.failed)} failed; "
-        f"{len(states) - len(left)} of {len(states)} runs done, about {state.hours(seconds)} of CPU left"
+        f"{len(states) - len(left)} of {len(states)} runs done, about {state.hours(seconds)} of run time left"
         + ("; run the same command again to go on" if left else ""))
     if outcome.signal is not None:
         return 128 + outcome.signal

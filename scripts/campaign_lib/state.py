@@ -55,8 +55,9 @@ class Estimate:
 
 
 def estimate(plan: Plan, states: list, engine: Engine, override_hours: float | None) -> Estimate:
-    """Wall seconds of one run: --run-hours, else the median of the stored runs' measured
-    times (those of the current engine when there are any), else the plan's run_cost_hours."""
+    """Wall seconds of one run (what --budget schedules by, not CPU time): --run-hours,
+    else the median of the stored runs' measured wall times (those of the current engine
+    when there are any), else the plan's run_cost_hours."""
     if override_hours is not None:
         return Estimate(override_hours * 3600.0, "--run-hours")
     measured = [(s.stored.provenance.get("wall_seconds"), s.stored.provenance.get("engine", {}))
