@@ -62,9 +62,16 @@ class AndersonMixer {
   double step_bound_;      // 0, or the bound on the extrapolation's step (constructor)
   bool bound_step(std::size_t n);  // scales gamma_ so that the step keeps step_bound_; true if it did
   // The arrays, in AndersonBuffers (named there without the underscore).
-  std::vector<double>&x_, &f_prev_, &g_prev_, &f_, &g_;
-  std::vector<double>&vel_, &vel_prev_;              // body velocities after the sweep (6 per body)
-  std::vector<std::vector<double>>&dF_, &dG_, &dV_;  // ring buffers of columns
+  std::vector<double>& x_;
+  std::vector<double>& f_prev_;
+  std::vector<double>& g_prev_;
+  std::vector<double>& f_;
+  std::vector<double>& g_;
+  std::vector<double>& vel_;                         // body velocities after the sweep (6 per body)
+  std::vector<double>& vel_prev_;
+  std::vector<std::vector<double>>& dF_;             // ring buffers of columns
+  std::vector<std::vector<double>>& dG_;
+  std::vector<std::vector<double>>& dV_;
   std::vector<double>& weight_;                      // sqrt(W_nn) per row, set at the solve's first plan
   std::vector<double>& partial_;                     // per block: the sums of a pass
   std::vector<double>& raw_;                         // the last plan's unprojected impulses (3 per row)

@@ -1,8 +1,8 @@
 // The arrays of Anderson's acceleration (solver/anderson.hpp), kept in the solve's
 // scratch from step to step: a bed of 2000 has about 27,000 unknowns, and arrays made
-// anew at each solve cost a zero fill and fresh pages of about 4 MB per step (2.4 % of
-// the paper bed's instructions, callgrind, and the page faults besides). Nothing in them
-// is read before the solve that uses them has written it (AndersonMixer).
+// anew at each solve cost a zero fill of fresh pages, about 4 MB per step
+// (docs/performance.md). Nothing in them is read before the solve that uses them has
+// written it (AndersonMixer).
 #pragma once
 
 #include <vector>
