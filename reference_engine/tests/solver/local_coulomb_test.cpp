@@ -161,5 +161,18 @@ TEST(LocalCoulomb, KeptImpulseIsClippedAsProjectOntoCone) {
   EXPECT_FALSE(std::signbit(pulled[1]) || std::signbit(pulled[2]));
 }
 
+// Anderson's write_extrapolated (solver/nsgs.cpp) writes an all-+0 extrapolation (an
+// open row's) as it is, without the projection: exact only while the projection leaves
+// +0 as +0.
+TEST(LocalCoulomb, TheConeLeavesPositiveZeroAsItIs) {
+  for (double mu : {0.0, 0.3, 1.0}) {
+    const Vec3 p = project_onto_cone(Vec3(0.0, 0.0, 0.0), mu);
+    for (int j = 0; j < 3; ++j) {
+      EXPECT_EQ(p[j], 0.0) << mu;
+      EXPECT_FALSE(std::signbit(p[j])) << mu << " entry " << j;
+    }
+  }
+}
+
 }  // namespace
 }  // namespace ratchet

@@ -69,14 +69,11 @@ void subtract_block(double* __restrict x, const double* __restrict src, std::siz
 
 }  // namespace
 
-AndersonMixer::AndersonMixer(AndersonBuffers& b, int depth, int parallel_min_rows, double step_bound)
+AndersonMixer::AndersonMixer(AndersonBuffers& buffers, int depth, int parallel_min_rows, double step_bound)
     : depth_(depth < kMaxDepth ? depth : kMaxDepth),
       parallel_min_rows_(parallel_min_rows),
       step_bound_(step_bound),
-      x_(b.x), f_prev_(b.f_prev), g_prev_(b.g_prev), f_(b.f), g_(b.g),
-      vel_(b.vel), vel_prev_(b.vel_prev),
-      dF_(b.dF), dG_(b.dG), dV_(b.dV),
-      weight_(b.weight), partial_(b.partial), raw_(b.raw), vel_mix_(b.vel_mix) {
+      b_(buffers) {
   if (depth_ > 0) {
     gram_ = Eigen::MatrixXd::Zero(depth_, depth_);
     rhs_ = Eigen::VectorXd::Zero(depth_);
@@ -84,28 +81,28 @@ AndersonMixer::AndersonMixer(AndersonBuffers& b, int depth, int parallel_min_row
 }
 
 double* AndersonMixer::record_buffer(std::size_t rows, bool after) {
-  std::vector<double>& b = after ? g_ : x_;
+  std::vector<double>& b = after ? b_.g : b_.x;
   b.resize(3 * rows);
   return b.data();
 }
 
 void AndersonMixer::record_velocities(const std::vector<Vec3>& v, const std::vector<Vec3>& w) {
   const std::size_t n = v.size();
-  vel_.resize(6 * n);
+  b_.vel.resize(6 * n);
 #pragma omp parallel for schedule(static) if (static_cast<int>(n) > parallel_min_rows_ / 4)
   for (std::size_t i = 0; i < n; ++i)
     for (int j = 0; j < 3; ++j) {
-      vel_[6 * i + static_cast<std::size_t>(j)] = v[i][j];
-      vel_[6 * i + 3 + static_cast<std::size_t>(j)] = w[i][j];
+      b_.vel[6 * i + static_cast<std::size_t>(j)] = v[i][j];
+      b_.vel[6 * i + 3 + static_cast<std::size_t>(j)] = w[i][j];
     }
 }
 
 void AndersonMixer::extrapolated_velocities(std::vector<Vec3>& v, std::vector<Vec3>& w) const {
   const std::size_t n = v.size();
   // Each entry minus its products in the order of the columns (subtract_block).
-  std::vector<double>& x = vel_mix_;
+  std::vector<double>& x = b_.vel_mix;
   x.resize(6 * n);  // the velocities of G(x_k) minus the mix of the dV columns
-  subtract_columns(x.data(), vel_prev_.data(), 6 * n, n > static_cast<std::size_t>(parallel_min_rows_ / 4), vcols_);
+  subtract_columns(x.data(), b_.vel_prev.data(), 6 * n, n > static_cast<std::size_t>(parallel_min_rows_ / 4), vcols_);
 #pragma omp parallel for schedule(static) if (static_cast<int>(n) > parallel_min_rows_ / 4)
   for (std::size_t i = 0; i < n; ++i)
     for (int j = 0; j < 3; ++j) {
@@ -133,11 +130,11 @@ void AndersonMixer::subtract_columns(double* x, const double* src, std::size_t n
 
 // The step taken, |G(x_k) - raw|, against the sweep's own, |G(x_k) - x_k|, entry by entry
 // in order (one thread: it runs only for the rigid law, where the sweeps, not this pass,
-// are the cost). True when gamma_ was scaled down and raw_ must be mixed again.
+// are the cost). True when gamma_ was scaled down and b_.raw must be mixed again.
 bool AndersonMixer::bound_step(std::size_t n) {
   double step2 = 0.0, move2 = 0.0;
   for (std::size_t i = 0; i < n; ++i) {
-    const double d = g_prev_[i] - x_[i], c = g_prev_[i] - raw_[i];
+    const double d = b_.g_prev[i] - b_.x[i], c = b_.g_prev[i] - b_.raw[i];
     step2 += d * d;
     move2 += c * c;
   }
@@ -153,28 +150,28 @@ Vec3 AndersonMixer::extrapolated(std::size_t k, double mu) const { return projec
 bool AndersonMixer::plan(const std::vector<SolverRow>& rows) {
   const std::size_t n = 3 * rows.size();
   if (!weighted_) {  // W is fixed within a solve: one pass for all sweeps
-    weight_.resize(rows.size());
-    for (std::size_t k = 0; k < rows.size(); ++k) weight_[k] = std::sqrt(rows[k].W(0, 0));
+    b_.weight.resize(rows.size());
+    for (std::size_t k = 0; k < rows.size(); ++k) b_.weight[k] = std::sqrt(rows[k].W(0, 0));
     weighted_ = true;
   }
-  f_.resize(n);
+  b_.f.resize(n);
   // Sums over the unknowns in fixed blocks of kBlock rows, added in block order: the same
   // bits for any number of threads.
   const std::size_t rows_n = rows.size();
   const int nblocks = static_cast<int>((rows_n + kBlock - 1) / kBlock);
-  partial_.assign(static_cast<std::size_t>(nblocks) * (kMaxDepth + 2), 0.0);
-  double* part = partial_.data();
+  b_.partial.assign(static_cast<std::size_t>(nblocks) * (kMaxDepth + 2), 0.0);
+  double* part = b_.partial.data();
   const bool parallel = static_cast<int>(rows_n) > parallel_min_rows_;
 #pragma omp parallel for schedule(static) if (parallel)
   for (int blk = 0; blk < nblocks; ++blk) {
     double sum = 0.0;
     const std::size_t k1 = std::min(rows_n, (static_cast<std::size_t>(blk) + 1) * kBlock);
     for (std::size_t k = static_cast<std::size_t>(blk) * kBlock; k < k1; ++k) {
-      const double wk = weight_[k];
+      const double wk = b_.weight[k];
       for (int j = 0; j < 3; ++j) {
         const std::size_t i = 3 * k + static_cast<std::size_t>(j);
-        f_[i] = wk * (g_[i] - x_[i]);
-        sum += f_[i] * f_[i];
+        b_.f[i] = wk * (b_.g[i] - b_.x[i]);
+        sum += b_.f[i] * b_.f[i];
       }
     }
     part[static_cast<std::size_t>(blk) * (kMaxDepth + 2)] = sum;
@@ -184,25 +181,25 @@ bool AndersonMixer::plan(const std::vector<SolverRow>& rows) {
   fnorm = std::sqrt(fnorm);
   const bool restart = have_prev_ && fnorm > fnorm_prev_;
   if (restart) { count_ = 0; head_ = 0; ++restarts_; }
-  if (have_prev_ && !restart && f_prev_.size() == n) {
-    if (dF_.size() < static_cast<std::size_t>(depth_)) {
-      dF_.resize(static_cast<std::size_t>(depth_));
-      dG_.resize(dF_.size());
-      dV_.resize(dF_.size());
+  if (have_prev_ && !restart && b_.f_prev.size() == n) {
+    if (b_.dF.size() < static_cast<std::size_t>(depth_)) {
+      b_.dF.resize(static_cast<std::size_t>(depth_));
+      b_.dG.resize(b_.dF.size());
+      b_.dV.resize(b_.dF.size());
     }
     const int h = head_;
     count_ = std::min(count_ + 1, depth_);
     head_ = (head_ + 1) % depth_;
-    std::vector<double>& cf = dF_[static_cast<std::size_t>(h)];
-    std::vector<double>& cg = dG_[static_cast<std::size_t>(h)];
+    std::vector<double>& cf = b_.dF[static_cast<std::size_t>(h)];
+    std::vector<double>& cg = b_.dG[static_cast<std::size_t>(h)];
     cf.resize(n);
     cg.resize(n);
-    // The new column, its row of the Gram matrix and its product with f_{k-1} in one
-    // pass; the other entries are kept from earlier sweeps. Since f_k = f_{k-1} + the
+    // The new column, its row of the Gram matrix and its product with b_.f{k-1} in one
+    // pass; the other entries are kept from earlier sweeps. Since f_k = b_.f{k-1} + the
     // new column, the right-hand side dF^T f_k follows from the last one and the new
     // Gram row without another pass: 2m + 1 products per unknown in all.
     const double* cols[kMaxDepth];
-    for (int b = 0; b < count_; ++b) cols[b] = dF_[static_cast<std::size_t>(b)].data();
+    for (int b = 0; b < count_; ++b) cols[b] = b_.dF[static_cast<std::size_t>(b)].data();
     double* cfp = cf.data();
     double* cgp = cg.data();
     const int m = count_;
@@ -211,7 +208,7 @@ bool AndersonMixer::plan(const std::vector<SolverRow>& rows) {
     for (int blk = 0; blk < nblocks; ++blk) {
       const std::size_t i0 = 3 * static_cast<std::size_t>(blk) * kBlock;
       const std::size_t i1 = 3 * std::min(rows_n, (static_cast<std::size_t>(blk) + 1) * kBlock);
-      const NewColumn pass{f_.data(), f_prev_.data(), g_.data(), g_prev_.data(), cfp, cgp, cols};
+      const NewColumn pass{b_.f.data(), b_.f_prev.data(), b_.g.data(), b_.g_prev.data(), cfp, cgp, cols};
       double* out = part + static_cast<std::size_t>(blk) * stride;
       switch (m) {  // the usual depths with the sums in registers
         case 1: new_column_block<1>(pass, m, i0, i1, out); break;
@@ -229,22 +226,22 @@ bool AndersonMixer::plan(const std::vector<SolverRow>& rows) {
       with_prev += in[0];
       for (int b = 0; b < m; ++b) dots[b] += in[1 + b];
     }
-    if (!vel_.empty() && vel_prev_.size() == vel_.size()) {
-      std::vector<double>& cv = dV_[static_cast<std::size_t>(h)];
-      cv.resize(vel_.size());
-      const double* vp = vel_.data();
-      const double* vq = vel_prev_.data();
+    if (!b_.vel.empty() && b_.vel_prev.size() == b_.vel.size()) {
+      std::vector<double>& cv = b_.dV[static_cast<std::size_t>(h)];
+      cv.resize(b_.vel.size());
+      const double* vp = b_.vel.data();
+      const double* vq = b_.vel_prev.data();
       double* cvp = cv.data();
-      const int nv = static_cast<int>(vel_.size());
+      const int nv = static_cast<int>(b_.vel.size());
 #pragma omp parallel for schedule(static) if (parallel)
       for (int i = 0; i < nv; ++i) cvp[i] = vp[i] - vq[i];
     }
     for (int b = 0; b < count_; ++b) { gram_(h, b) = dots[b]; gram_(b, h) = dots[b]; }
     for (int b = 0; b < count_; ++b) rhs_(b) = b == h ? with_prev + dots[h] : rhs_(b) + dots[b];
   }
-  f_prev_.swap(f_);
-  g_prev_.swap(g_);
-  vel_prev_.swap(vel_);
+  b_.f_prev.swap(b_.f);
+  b_.g_prev.swap(b_.g);
+  b_.vel_prev.swap(b_.vel);
   fnorm_prev_ = fnorm;
   have_prev_ = true;
   if (count_ == 0) return false;
@@ -260,12 +257,12 @@ bool AndersonMixer::plan(const std::vector<SolverRow>& rows) {
   if (!gamma.allFinite()) { count_ = 0; head_ = 0; ++restarts_; return false; }
   for (int a = 0; a < m; ++a) {
     gamma_[a] = gamma(a);
-    gcols_[a] = dG_[static_cast<std::size_t>(a)].data();
-    vcols_[a] = dV_[static_cast<std::size_t>(a)].data();
+    gcols_[a] = b_.dG[static_cast<std::size_t>(a)].data();
+    vcols_[a] = b_.dV[static_cast<std::size_t>(a)].data();
   }
-  raw_.resize(n);  // G(x_k) minus the mix of the dG columns
-  subtract_columns(raw_.data(), g_prev_.data(), n, parallel, gcols_);
-  if (step_bound_ > 0.0 && bound_step(n)) subtract_columns(raw_.data(), g_prev_.data(), n, parallel, gcols_);
+  b_.raw.resize(n);  // G(x_k) minus the mix of the dG columns
+  subtract_columns(b_.raw.data(), b_.g_prev.data(), n, parallel, gcols_);
+  if (step_bound_ > 0.0 && bound_step(n)) subtract_columns(b_.raw.data(), b_.g_prev.data(), n, parallel, gcols_);
   return true;
 }
 

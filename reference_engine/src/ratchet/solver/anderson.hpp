@@ -50,7 +50,7 @@ class AndersonMixer {
   // unprojected(k) the same before the projection.
   bool plan(const std::vector<SolverRow>& rows);
   Vec3 extrapolated(std::size_t k, double mu) const;
-  Vec3 unprojected(std::size_t k) const { return Vec3(raw_[3 * k], raw_[3 * k + 1], raw_[3 * k + 2]); }
+  Vec3 unprojected(std::size_t k) const { return Vec3(b_.raw[3 * k], b_.raw[3 * k + 1], b_.raw[3 * k + 2]); }
   // The body velocities of the unprojected impulses (needs record_velocities each sweep).
   void extrapolated_velocities(std::vector<Vec3>& v, std::vector<Vec3>& w) const;
 
@@ -61,24 +61,10 @@ class AndersonMixer {
   int parallel_min_rows_;  // the passes run in parallel above this many rows (bodies: a quarter)
   double step_bound_;      // 0, or the bound on the extrapolation's step (constructor)
   bool bound_step(std::size_t n);  // scales gamma_ so that the step keeps step_bound_; true if it did
-  // The arrays, in AndersonBuffers (named there without the underscore).
-  std::vector<double>& x_;
-  std::vector<double>& f_prev_;
-  std::vector<double>& g_prev_;
-  std::vector<double>& f_;
-  std::vector<double>& g_;
-  std::vector<double>& vel_;                         // body velocities after the sweep (6 per body)
-  std::vector<double>& vel_prev_;
-  std::vector<std::vector<double>>& dF_;             // ring buffers of columns
-  std::vector<std::vector<double>>& dG_;
-  std::vector<std::vector<double>>& dV_;
-  std::vector<double>& weight_;                      // sqrt(W_nn) per row, set at the solve's first plan
-  std::vector<double>& partial_;                     // per block: the sums of a pass
-  std::vector<double>& raw_;                         // the last plan's unprojected impulses (3 per row)
-  std::vector<double>& vel_mix_;                     // scratch of extrapolated_velocities (6 per body)
-  Eigen::MatrixXd gram_;                             // dF^T dF of the ring's columns
-  Eigen::VectorXd rhs_;                              // dF^T f_k
-  bool weighted_ = false;                            // weight_ holds this solve's rows
+  AndersonBuffers& b_;         // the arrays (x, f, g, the ring of columns, ...), kept between solves
+  Eigen::MatrixXd gram_;        // dF^T dF of the ring's columns
+  Eigen::VectorXd rhs_;         // dF^T f_k
+  bool weighted_ = false;       // b_.weight holds this solve's rows
   double gamma_[kMaxDepth] = {};              // the last plan's coefficients
   const double* gcols_[kMaxDepth] = {};       // and the dG columns they weigh
   const double* vcols_[kMaxDepth] = {};       // and the dV columns
