@@ -43,6 +43,35 @@ TEST(CandidatePairList, GivesTheGridSearchPairsAtEveryStep) {
   EXPECT_LT(list.searches(), steps / 5);   // about every 10 steps at 0.0035 per step
 }
 
+// mark() gives the candidates and which are in reach: the marked ones are the grid
+// search's pairs, and the candidates change only at a search (detection keeps its
+// per-pair data aligned with them, world/detect.cpp).
+TEST(CandidatePairList, MarksThePairsAmongCandidatesThatChangeOnlyAtASearch) {
+  Rng rng(23);
+  Bodies b = random_bed(rng, 400);
+  CandidatePairList list;
+  std::vector<char> in_reach;
+  std::vector<BodyPair> last, direct;
+  long long searches = 0;
+  for (int step = 0; step < 100; ++step) {
+    for (std::size_t i = 0; i < b.c.size(); ++i)
+      b.c[i] += Vec3(uniform(rng, -1, 1), uniform(rng, -1, 1), uniform(rng, -1, 1)) * 2e-3;
+    const std::vector<BodyPair>& candidates = list.mark(b.c, b.r, 0.05, 0.1, in_reach);
+    ASSERT_EQ(in_reach.size(), candidates.size());
+    std::vector<BodyPair> marked;
+    for (std::size_t k = 0; k < candidates.size(); ++k)
+      if (in_reach[k]) marked.push_back(candidates[k]);
+    find_candidate_pairs(b.c, b.r, 0.05, direct);
+    ASSERT_EQ(marked, direct) << "step " << step;
+    if (list.searches() == searches) {
+      ASSERT_EQ(candidates, last) << "step " << step;
+    }
+    searches = list.searches();
+    last = candidates;
+  }
+  EXPECT_GT(list.searches(), 1);
+}
+
 // Pairs just outside the reach at the search, brought into it by the motion the skin
 // allows: the worst case of the bound (two bodies moving straight at each other).
 TEST(CandidatePairList, FindsPairsThatCloseInFromTheSkin) {

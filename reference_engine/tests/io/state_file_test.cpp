@@ -51,7 +51,6 @@ StateFile sample() {
   p.cache.simplex = {{{1, 2}, {3, 4}, {5, 6}, {7, 8}}};
   s.planes.push_back(p);
   p.a = 1;
-  p.cache.valid = false;
   p.cache.kind = PlaneFeature::Axis;
   s.planes.push_back(p);
   KeptManifold m;
@@ -150,6 +149,26 @@ TEST(StateFile, RoundTripThroughAFileIsBitExact) {
   expect_bit_equal(f.state, g.state);
   EXPECT_EQ(encode_state_file(g), encode_state_file(f));  // and back to the same bytes
   fs::remove_all(d);
+}
+
+// Between steps the state keeps an entry per candidate pair, most holding nothing (a
+// plane not valid, a manifold of count -1: world/state.hpp); a file keeps only the others,
+// so it has the bytes of the state without them, and reads back as that state.
+TEST(StateFile, EntriesThatHoldNothingAreNotWritten) {
+  const StateFile f = sample();
+  StateFile g = f;
+  KeptPlane empty_plane;
+  empty_plane.a = 0;
+  empty_plane.b = 1;
+  empty_plane.cache.kind = PlaneFeature::Axis;  // left over: not valid, so nothing
+  g.state.planes.insert(g.state.planes.begin(), empty_plane);
+  KeptManifold none = f.state.manifolds[0];
+  none.a = 1;
+  none.b = 2;
+  none.count = -1;
+  g.state.manifolds.push_back(none);
+  EXPECT_EQ(encode_state_file(g), encode_state_file(f));
+  expect_bit_equal(decode_state_file(encode_state_file(g), "g.state").state, f.state);
 }
 
 TEST(StateFile, LayoutIsFixedLittleEndian) {

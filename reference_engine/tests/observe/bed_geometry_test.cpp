@@ -74,5 +74,26 @@ TEST(BedGeometry, BedHeightIsTheHighestPointOfTheMovingBodies) {
   EXPECT_EQ(bed_height(s, st), 0.0);
 }
 
+// The bed height asks each kind for its top alone (ShapeKindFacts::top, at every step):
+// the highest of the placed points, at many orientations and scales (to round-off: the
+// top is n . v, the points R v, rounded differently).
+TEST(BedGeometry, TheTopIsTheHighestPlacedPoint) {
+  const SceneDef s = sphere_and_cube();
+  State st = state_of(s);
+  for (int k = 0; k < 200; ++k) {
+    st.q[1] = Quat(Eigen::AngleAxisd(0.37 * k, Vec3(1.0, 0.3 * k, -0.2).normalized())) * st.q[1];
+    st.x[1] = Vec3(3.0, 0.1 * k, 2.0 + 1e-3 * k);
+    st.s_p = 1.0 + 1.7e-4 * k;
+    const BodyDef& cube = s.bodies[1];
+    PlacedBody p;
+    place_body(s, st, 1, p);
+    double highest = -HUGE_VAL;
+    for (const Vec3& q : p.points) highest = std::max(highest, q.z());
+    const double top = shape_kind(cube.kind).top(s, cube, st.x[1], st.q[1], body_scale(cube, st.s_p));
+    ASSERT_NEAR(top, highest, 1e-14) << "orientation " << k;
+    ASSERT_GT(top, st.x[1].z() + 0.49) << "orientation " << k;  // a cube's top vertex is at least 0.5 up
+  }
+}
+
 }  // namespace
 }  // namespace ratchet

@@ -43,7 +43,7 @@ struct KeptManifold {
   int a = 0, b = 0;
   PairPose pose;
   double gap_bound = 0.0;  // count 0: the gap was at least this at the build
-  int count = 0;
+  int count = 0;            // points; -1 in the state: no manifold kept (world/state.hpp)
   bool normal_on_b = false;  // the normal is B's face normal: it turns with B
   Vec3 normal = Vec3::Zero();  // in A's frame (or B's when normal_on_b)
   // Material points of A and B, shape frames; the slots past count stay zero (Eigen does

@@ -30,8 +30,9 @@ bool CandidatePairList::holds(const std::vector<Vec3>& centers, const std::vecto
   return 2.0 * std::sqrt(d2) + 2.0 * grow <= kSkinUsed * skin;
 }
 
-void CandidatePairList::find(const std::vector<Vec3>& centers, const std::vector<double>& radii, double margin,
-                             double skin, std::vector<BodyPair>& pairs) {
+const std::vector<BodyPair>& CandidatePairList::mark(const std::vector<Vec3>& centers,
+                                                     const std::vector<double>& radii, double margin, double skin,
+                                                     std::vector<char>& in_reach) {
   if (!holds(centers, radii, margin, skin)) {
     find_candidate_pairs(centers, radii, margin + skin, kept_);
     centers_ = centers;
@@ -40,11 +41,21 @@ void CandidatePairList::find(const std::vector<Vec3>& centers, const std::vector
     skin_ = skin;
     ++searches_;
   }
-  pairs.clear();
-  for (const BodyPair& p : kept_) {
-    const std::size_t a = static_cast<std::size_t>(p.first), b = static_cast<std::size_t>(p.second);
-    if (within_reach(centers[a], centers[b], radii[a], radii[b], margin)) pairs.push_back(p);
+  in_reach.resize(kept_.size());
+  for (std::size_t k = 0; k < kept_.size(); ++k) {
+    const std::size_t a = static_cast<std::size_t>(kept_[k].first), b = static_cast<std::size_t>(kept_[k].second);
+    in_reach[k] = within_reach(centers[a], centers[b], radii[a], radii[b], margin) ? 1 : 0;
   }
+  return kept_;
+}
+
+void CandidatePairList::find(const std::vector<Vec3>& centers, const std::vector<double>& radii, double margin,
+                             double skin, std::vector<BodyPair>& pairs) {
+  std::vector<char> in_reach;
+  const std::vector<BodyPair>& candidates = mark(centers, radii, margin, skin, in_reach);
+  pairs.clear();
+  for (std::size_t k = 0; k < candidates.size(); ++k)
+    if (in_reach[k]) pairs.push_back(candidates[k]);
 }
 
 }  // namespace ratchet

@@ -18,6 +18,12 @@ class CandidatePairList {
   // margin + skin (skin > 0).
   void find(const std::vector<Vec3>& centers, const std::vector<double>& radii, double margin, double skin,
             std::vector<BodyPair>& pairs);
+  // The same search, given as the kept candidates (returned; the list lives until the
+  // next call) and, per candidate, whether it is within reach now: find's pairs are the
+  // candidates marked 1, in the same order. Detection keeps its per-pair data aligned
+  // with the candidates, which change only at a new grid search (world/detect.cpp).
+  const std::vector<BodyPair>& mark(const std::vector<Vec3>& centers, const std::vector<double>& radii,
+                                    double margin, double skin, std::vector<char>& in_reach);
   long long searches() const { return searches_; }  // grid searches so far
 
  private:

@@ -1,5 +1,6 @@
 #include "ratchet/io/state_file.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <fstream>
@@ -135,8 +136,11 @@ std::string encode_state_file(const StateFile& f) {
     o.i32(k.key.feature_b);
     o.vec(k.impulse);
   }
-  o.u64(s.planes.size());
+  // Only the entries that hold something (world/state.hpp).
+  o.u64(static_cast<std::uint64_t>(
+      std::count_if(s.planes.begin(), s.planes.end(), [](const KeptPlane& p) { return p.cache.valid; })));
   for (const KeptPlane& p : s.planes) {
+    if (!p.cache.valid) continue;
     const CommonPlaneCache& c = p.cache;
     o.i32(p.a);
     o.i32(p.b);
@@ -153,8 +157,10 @@ std::string encode_state_file(const StateFile& f) {
       o.i32(pr[1]);
     }
   }
-  o.u64(s.manifolds.size());
+  o.u64(static_cast<std::uint64_t>(
+      std::count_if(s.manifolds.begin(), s.manifolds.end(), [](const KeptManifold& m) { return m.count >= 0; })));
   for (const KeptManifold& m : s.manifolds) {
+    if (m.count < 0) continue;
     o.i32(m.a);
     o.i32(m.b);
     for (int r = 0; r < 3; ++r)

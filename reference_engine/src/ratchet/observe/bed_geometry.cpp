@@ -23,11 +23,11 @@ std::vector<Vec3> bed_points(const SceneDef& scene, const State& state) {
 
 double bed_height(const SceneDef& scene, const State& state) {
   double top = 0.0;
-  PlacedBody body;
   for (std::size_t i = 0; i < state.x.size(); ++i) {
-    if (scene.bodies[i].fixed) continue;
-    place_body(scene, state, static_cast<int>(i), body);
-    top = std::max(top, body.top);  // NaN tops are skipped, as vertex by vertex
+    const BodyDef& b = scene.bodies[i];
+    if (b.fixed) continue;
+    const double t = shape_kind(b.kind).top(scene, b, state.x[i], state.q[i], body_scale(b, state.s_p));
+    top = std::max(top, t);  // NaN tops are skipped, as vertex by vertex
   }
   return top;
 }

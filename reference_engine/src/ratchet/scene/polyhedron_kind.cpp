@@ -23,16 +23,21 @@ class PolyhedronKind final : public ShapeKindFacts {
     const ConvexPolyhedron& shape = scene.shapes[static_cast<std::size_t>(b.shape)];
     const Mat3 R = q.toRotationMatrix();
     out.points.clear();
-    out.top = -HUGE_VAL;
-    for (const Vec3& v : shape.vertices) {
-      out.points.push_back(x + sc * (R * v));
-      // Not points.back().z(): Eigen rounds (R v).z and R.row(2).dot(v) differently,
-      // and bed_height has always been the latter.
-      out.top = std::max(out.top, x.z() + sc * R.row(2).dot(v));
-    }
+    for (const Vec3& v : shape.vertices) out.points.push_back(x + sc * (R * v));
+    out.top = top(scene, b, x, q, sc);
     out.sphere_radius = 0.0;
     out.faces = &shape.faces;
     out.volume = shape.volume * sc * sc * sc;
+  }
+
+  double top(const SceneDef& scene, const BodyDef& b, const Vec3& x, const Quat& q, double sc) const override {
+    const ConvexPolyhedron& shape = scene.shapes[static_cast<std::size_t>(b.shape)];
+    const Mat3 R = q.toRotationMatrix();
+    double t = -HUGE_VAL;
+    // Not the placed points' z: Eigen rounds (R v).z and R.row(2).dot(v) differently,
+    // and bed_height has always been the latter.
+    for (const Vec3& v : shape.vertices) t = std::max(t, x.z() + sc * R.row(2).dot(v));
+    return t;
   }
 };
 

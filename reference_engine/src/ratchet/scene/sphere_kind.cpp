@@ -17,7 +17,7 @@ class SphereKind final : public ShapeKindFacts {
     j["shape"] = nullptr;
   }
 
-  void place(const SceneDef&, const BodyDef& b, const Vec3& x, const Quat&, double sc,
+  void place(const SceneDef& scene, const BodyDef& b, const Vec3& x, const Quat& q, double sc,
              PlacedBody& out) const override {
     const double r = b.radius * sc;
     const double d = 1.0 / std::sqrt(3.0);
@@ -27,10 +27,14 @@ class SphereKind final : public ShapeKindFacts {
     for (double sx : {-d, d})
       for (double sy : {-d, d})
         for (double sz : {-d, d}) out.points.push_back(x + r * Vec3(sx, sy, sz));
-    out.top = x.z() + r;
+    out.top = top(scene, b, x, q, sc);
     out.sphere_radius = r;
     out.faces = nullptr;
     out.volume = 4.0 / 3.0 * M_PI * r * r * r;
+  }
+
+  double top(const SceneDef&, const BodyDef& b, const Vec3& x, const Quat&, double sc) const override {
+    return x.z() + b.radius * sc;
   }
 };
 

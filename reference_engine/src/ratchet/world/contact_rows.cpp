@@ -132,22 +132,57 @@ void World::build_rows() {
 }
 
 // Impulses of the previous step for the same (bodies, features), projected onto the
-// new frame, clipped to the friction cone and applied before the first sweep.
+// new frame, clipped to the friction cone and applied before the first sweep, in the
+// contacts' (colour) order. They are looked up in the order gathered (find_kept_impulses).
 void World::warm_start(SolverBodies& bodies) {
   if (!scene_.solver.warm_start || state_.impulses.empty()) return;
   StepScratch& s = scratch_;
+  find_kept_impulses();
   for (std::size_t k = 0; k < s.contacts.size(); ++k) {
+    const int found = s.kept_impulse[static_cast<std::size_t>(s.order[k])];
+    if (found < 0) continue;
     const SolverContact& c = s.contacts[k];
-    const ContactKey key{c.a, c.b, c.geometry.feature_a, c.geometry.feature_b};
-    auto it = std::lower_bound(state_.impulses.begin(), state_.impulses.end(), key,
-                               [](const KeptImpulse& x, const ContactKey& y) { return x.key < y; });
-    if (it == state_.impulses.end() || !(it->key == key)) continue;
-    const Vec3& P = it->impulse;
+    const Vec3& P = state_.impulses[static_cast<std::size_t>(found)].impulse;
     const Vec3 lambda = friction_on_
                             ? clip_kept_impulse(Vec3(c.geometry.normal.dot(P), c.t1.dot(P), c.t2.dot(P)), c.mu)
                             : Vec3(std::max(0.0, c.geometry.normal.dot(P)), 0.0, 0.0);
     s.rows[k].lambda = lambda;
     apply_local_impulse(s.rows[k], lambda, arrays_of(bodies), rotation_on_);
+  }
+}
+
+// Per contact as gathered, its kept impulse (index into the sorted State::impulses) or -1:
+// the first with its key, as a binary search would find it. Gathered body pairs come in
+// ascending (a, b), so one pointer walks the impulses alongside; wall contacts come body
+// by body (each body's walls in descending b), so a second pointer finds each body's
+// first impulse and its few wall impulses are scanned.
+void World::find_kept_impulses() {
+  StepScratch& s = scratch_;
+  const std::vector<KeptImpulse>& kept = state_.impulses;
+  const std::size_t n = s.row_a.size(), nk = kept.size();
+  s.kept_impulse.assign(n, -1);
+  std::vector<int> contact_of(n);  // gathered index -> its place in the colour order
+  for (std::size_t j = 0; j < n; ++j) contact_of[static_cast<std::size_t>(s.order[j])] = static_cast<int>(j);
+  auto key_of = [&](std::size_t g) {
+    const ContactPoint& p = s.contacts[static_cast<std::size_t>(contact_of[g])].geometry;
+    return ContactKey{s.row_a[g], s.row_b[g], p.feature_a, p.feature_b};
+  };
+  std::size_t pair_at = 0, body_at = 0;
+  for (std::size_t g = 0; g < n; ++g) {
+    const ContactKey key = key_of(g);
+    std::size_t i;
+    if (!is_wall(key.b)) {
+      while (pair_at < nk && std::tie(kept[pair_at].key.a, kept[pair_at].key.b) < std::tie(key.a, key.b)) ++pair_at;
+      i = pair_at;
+    } else {
+      while (body_at < nk && kept[body_at].key.a < key.a) ++body_at;
+      i = body_at;
+    }
+    for (; i < nk && kept[i].key.a == key.a && (kept[i].key < key || kept[i].key == key); ++i)
+      if (kept[i].key == key) {
+        s.kept_impulse[g] = static_cast<int>(i);
+        break;
+      }
   }
 }
 

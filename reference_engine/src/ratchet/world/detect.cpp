@@ -61,40 +61,56 @@ void World::prepare_bodies() {
   }
 }
 
-// Common planes of the last step, looked up by pair (both lists are sorted); each slot
-// written once, the kept plane or none.
-void World::load_pair_planes() {
-  StepScratch& s = scratch_;
-  s.pair_planes.resize(s.pairs.size());
+// The state's kept planes and manifolds, one per candidate pair of the broad phase and in
+// its order (world/state.hpp), so that the narrow phase reads and updates them in place.
+// The candidates change only at a new grid search (contact/pair_list.hpp); then, or when
+// the state came from elsewhere (a packing, a checkpoint: compact lists), each kept entry
+// moves to its pair's new slot and the other slots hold nothing.
+namespace {
+
+template <class Kept>
+bool aligned(const std::vector<Kept>& kept, const std::vector<BodyPair>& candidates) {
+  if (kept.size() != candidates.size()) return false;
+  for (std::size_t k = 0; k < kept.size(); ++k)
+    if (kept[k].a != candidates[k].first || kept[k].b != candidates[k].second) return false;
+  return true;
+}
+
+// holds(entry): whether an old entry carries something to keep.
+template <class Kept, class Holds>
+void realign(std::vector<Kept>& kept, const std::vector<BodyPair>& candidates, const Kept& none, Holds holds) {
+  std::vector<Kept> next(candidates.size(), none);
   std::size_t j = 0;
-  for (std::size_t k = 0; k < s.pairs.size(); ++k) {
-    while (j < state_.planes.size() && std::make_pair(state_.planes[j].a, state_.planes[j].b) < s.pairs[k]) ++j;
-    const bool kept = j < state_.planes.size() && std::make_pair(state_.planes[j].a, state_.planes[j].b) == s.pairs[k];
-    s.pair_planes[k] = kept ? state_.planes[j].cache : CommonPlaneCache{};
+  for (std::size_t k = 0; k < candidates.size(); ++k) {
+    next[k].a = candidates[k].first;
+    next[k].b = candidates[k].second;
+    while (j < kept.size() && std::make_pair(kept[j].a, kept[j].b) < candidates[k]) ++j;
+    if (j < kept.size() && std::make_pair(kept[j].a, kept[j].b) == candidates[k] && holds(kept[j])) next[k] = kept[j];
+  }
+  kept.swap(next);
+}
+
+}  // namespace
+
+void World::align_pair_slots(const std::vector<BodyPair>& candidates, bool reuse) {
+  if (!aligned(state_.planes, candidates))
+    realign(state_.planes, candidates, KeptPlane{}, [](const KeptPlane& p) { return p.cache.valid; });
+  if (reuse && !aligned(state_.manifolds, candidates)) {
+    KeptManifold none;
+    none.count = -1;
+    realign(state_.manifolds, candidates, none, [](const KeptManifold& m) { return m.count >= 0; });
   }
 }
 
-// Keep the planes of the polyhedron pairs for the next step.
-void World::store_pair_planes() {
-  const StepScratch& s = scratch_;
-  state_.planes.clear();
-  for (std::size_t k = 0; k < s.pairs.size(); ++k)
-    if (s.pair_planes[k].valid) state_.planes.push_back({s.pairs[k].first, s.pairs[k].second, s.pair_planes[k]});
-}
-
-// Kept manifolds of the last step, looked up by pair (both lists are sorted).
-void World::load_pair_manifolds() {
-  StepScratch& s = scratch_;
-  s.pair_kept.assign(s.pairs.size(), -1);
-  s.pair_keep.resize(s.pairs.size());
-  s.pair_replayed.assign(s.pairs.size(), 0);
-  std::size_t j = 0;
-  const std::vector<KeptManifold>& kept = state_.manifolds;
-  for (std::size_t k = 0; k < s.pairs.size(); ++k) {
-    s.pair_keep[k].count = -1;
-    while (j < kept.size() && std::make_pair(kept[j].a, kept[j].b) < s.pairs[k]) ++j;
-    if (j < kept.size() && std::make_pair(kept[j].a, kept[j].b) == s.pairs[k]) s.pair_kept[k] = static_cast<int>(j);
+// The replayed and the built manifolds of this step (StepStats).
+void World::count_pair_fates() {
+  int replayed = 0, built = 0;
+  for (const char f : scratch_.pair_fate) {
+    replayed += f == kReplayed ? 1 : 0;
+    built += f == kBuilt ? 1 : 0;
   }
+  stats_.manifolds_replayed = replayed;
+  stats_.manifolds_built = built;
 }
 
 void World::reduce_reuse_audit() {
@@ -108,27 +124,6 @@ void World::reduce_reuse_audit() {
   }
 }
 
-// Keep the manifolds of this step's polyhedron pairs (replayed ones with the pose they
-// were built at) for the next step.
-void World::store_pair_manifolds() {
-  StepScratch& s = scratch_;
-  std::vector<KeptManifold> next;
-  next.reserve(s.pairs.size());
-  int replayed = 0, built = 0;
-  for (std::size_t k = 0; k < s.pairs.size(); ++k) {
-    if (s.pair_replayed[k]) {  // kept as it was (not copied to pair_keep first)
-      next.push_back(state_.manifolds[static_cast<std::size_t>(s.pair_kept[k])]);
-      ++replayed;
-    } else if (s.pair_keep[k].count >= 0) {
-      next.push_back(s.pair_keep[k]);
-      ++built;
-    }
-  }
-  state_.manifolds.swap(next);
-  stats_.manifolds_replayed = replayed;
-  stats_.manifolds_built = built;
-}
-
 // A polyhedron pair under solver.manifold_reuse (contact/manifold_reuse.hpp): its kept
 // manifold replayed while the pair has moved less than the bound since the build (an
 // empty one only while the gap's lower bound stays beyond the margin), else built anew
@@ -138,21 +133,21 @@ void World::collide_reusing(int k, const CollisionBody& a, const CollisionBody& 
   const std::size_t slot = static_cast<std::size_t>(k);
   const double bound = scene_.solver.manifold_reuse, margin = scene_.solver.contact_margin;
   ContactManifold& m = s.pair_manifolds[slot];
-  if (s.pair_kept[slot] >= 0) {
-    const KeptManifold& kept = state_.manifolds[static_cast<std::size_t>(s.pair_kept[slot])];
+  KeptManifold& kept = state_.manifolds[slot];
+  if (kept.count >= 0) {
     const double moved = pair_motion(kept.pose, pair_pose(a.poly, b.poly), a.poly.shape->bounding_radius,
                                      b.poly.shape->bounding_radius);
     if (moved <= bound && (kept.count > 0 || kept.gap_bound - moved > margin)) {
       replay_manifold(kept, a.poly, b.poly, m);
-      s.pair_replayed[slot] = 1;  // store_pair_manifolds keeps it from the state
+      s.pair_fate[slot] = kReplayed;  // kept as it was
       if (s.audit_on) audit_replay(slot, a, b, moved);
       return;
     }
   }
   CommonPlaneResult plane;
-  collide_polyhedra(a.poly, b.poly, margin, s.pair_planes[slot], m, &plane);
-  s.pair_keep[slot] = keep_manifold(s.pairs[slot].first, s.pairs[slot].second, a.poly, b.poly, m, plane.gap,
-                                    plane.feature == PlaneFeature::FaceB);
+  collide_polyhedra(a.poly, b.poly, margin, state_.planes[slot].cache, m, &plane);
+  kept = keep_manifold(kept.a, kept.b, a.poly, b.poly, m, plane.gap, plane.feature == PlaneFeature::FaceB);
+  s.pair_fate[slot] = kBuilt;
 }
 
 // Test hook (world/test_hooks.hpp): the replayed manifold of pair `slot` against a fresh
@@ -160,7 +155,7 @@ void World::collide_reusing(int k, const CollisionBody& a, const CollisionBody& 
 void World::audit_replay(std::size_t slot, const CollisionBody& a, const CollisionBody& b, double moved) {
   StepScratch& s = scratch_;
   const ContactManifold& m = s.pair_manifolds[slot];
-  CommonPlaneCache cache = s.pair_planes[slot];  // a copy: the audit changes nothing
+  CommonPlaneCache cache = state_.planes[slot].cache;  // a copy: the audit changes nothing
   ContactManifold fresh;
   collide_polyhedra(a.poly, b.poly, scene_.solver.contact_margin, cache, fresh);
   PairAudit& out = s.pair_audit[slot];
@@ -197,45 +192,52 @@ void World::find_wall_pairs(const std::vector<Vec3>& wall_points) {
   }
 }
 
-// Gather in a fixed order: body pairs (sorted), then bodies against walls; then into
-// the colour order of the parallel sweep (solver/row_colouring.hpp), a function of this
-// list alone, so the same for any thread count.
+// Gather in a fixed order: body pairs (the candidates, sorted), then bodies against
+// walls; then into the colour order of the parallel sweep (solver/row_colouring.hpp), a
+// function of this list alone, so the same for any thread count. Each contact is made
+// once, at its place in the colour order, from its manifold point (gathered_from).
 void World::gather_contacts() {
   StepScratch& s = scratch_;
-  s.gathered.clear();
-  for (std::size_t k = 0; k < s.pairs.size(); ++k) {
-    const ContactManifold& m = s.pair_manifolds[k];
-    for (int c = 0; c < m.count; ++c) {
-      SolverContact sc;
-      sc.a = s.pairs[k].first;
-      sc.b = s.pairs[k].second;
-      sc.geometry = m.points[static_cast<std::size_t>(c)];
-      sc.mu = scene_.materials.friction;
-      s.gathered.push_back(sc);
+  const std::vector<BodyPair>& pairs = *s.candidates;
+  s.row_a.clear();
+  s.row_b.clear();
+  s.gathered_from.clear();
+  for (std::size_t k = 0; k < pairs.size(); ++k) {
+    const int count = s.pair_manifolds[k].count;  // 0 for a candidate out of reach
+    for (int c = 0; c < count; ++c) {
+      s.row_a.push_back(pairs[k].first);
+      s.row_b.push_back(pairs[k].second);
+      s.gathered_from.push_back({static_cast<int>(k), c});
     }
   }
   for (std::size_t k = 0; k < s.wall_pairs.size(); ++k) {
-    const ContactManifold& m = s.wall_manifolds[k];
-    for (int c = 0; c < m.count; ++c) {
-      SolverContact sc;
-      sc.a = s.wall_pairs[k].first;
-      sc.b = wall_side(s.wall_pairs[k].second);
-      sc.geometry = m.points[static_cast<std::size_t>(c)];
-      sc.mu = scene_.materials.wall_friction;
-      s.gathered.push_back(sc);
+    const int count = s.wall_manifolds[k].count;
+    for (int c = 0; c < count; ++c) {
+      s.row_a.push_back(s.wall_pairs[k].first);
+      s.row_b.push_back(wall_side(s.wall_pairs[k].second));
+      s.gathered_from.push_back({-1 - static_cast<int>(k), c});
     }
   }
-  const std::size_t n = s.gathered.size();
-  s.row_a.resize(n);
-  s.row_b.resize(n);
-  for (std::size_t k = 0; k < n; ++k) { s.row_a[k] = s.gathered[k].a; s.row_b[k] = s.gathered[k].b; }
   if (s.moving.size() != scene_.bodies.size()) {  // which bodies are fixed never changes
     s.moving.resize(scene_.bodies.size());
     for (std::size_t i = 0; i < scene_.bodies.size(); ++i) s.moving[i] = !scene_.bodies[i].fixed;
   }
   colour_rows(s.row_a, s.row_b, s.moving, s.order, s.colouring);
+  const std::size_t n = s.row_a.size();
   s.contacts.resize(n);
-  for (std::size_t j = 0; j < n; ++j) s.contacts[j] = s.gathered[static_cast<std::size_t>(s.order[j])];
+  for (std::size_t j = 0; j < n; ++j) {
+    const std::size_t g = static_cast<std::size_t>(s.order[j]);
+    const GatheredFrom from = s.gathered_from[g];
+    const bool wall = from.manifold < 0;
+    const ContactManifold& m = wall ? s.wall_manifolds[static_cast<std::size_t>(-1 - from.manifold)]
+                                    : s.pair_manifolds[static_cast<std::size_t>(from.manifold)];
+    SolverContact sc;
+    sc.a = s.row_a[g];
+    sc.b = s.row_b[g];
+    sc.geometry = m.points[static_cast<std::size_t>(from.point)];
+    sc.mu = wall ? scene_.materials.wall_friction : scene_.materials.friction;
+    s.contacts[j] = sc;
+  }
 }
 
 // 3. Contact detection: the narrow phase runs in parallel into per-pair slots, which
@@ -249,27 +251,42 @@ void World::detect() {
     for (const BodyDef& b : scene_.bodies) r_max = std::max(r_max, b.bounding_radius);
     s.pair_skin = kPairSkin * (r_max > 0.0 ? r_max : 1.0);
   }
-  s.pair_list.find(s.centers, s.radii, margin, s.pair_skin, s.pairs);
-  s.pair_manifolds.resize(s.pairs.size());  // every slot's count is set below
-  const int np = static_cast<int>(s.pairs.size());
-  load_pair_planes();
+  const std::vector<BodyPair>& pairs = s.pair_list.mark(s.centers, s.radii, margin, s.pair_skin, s.in_reach);
+  s.candidates = &pairs;
+  const int np = static_cast<int>(pairs.size());
+  s.pair_manifolds.resize(pairs.size());  // every slot's count is set below
   const bool reuse = scene_.solver.manifold_reuse > 0.0;
-  if (reuse) load_pair_manifolds();
+  align_pair_slots(pairs, reuse);
+  s.pair_fate.assign(pairs.size(), kNotKept);
   s.audit_on = reuse && test_hooks().reuse_audit != nullptr;
-  if (s.audit_on) s.pair_audit.assign(s.pairs.size(), PairAudit{});
+  if (s.audit_on) s.pair_audit.assign(pairs.size(), PairAudit{});
 #pragma omp parallel for schedule(dynamic, 64) if (np > kParallelMin)
   for (int k = 0; k < np; ++k) {
-    const int a = s.pairs[static_cast<std::size_t>(k)].first, b = s.pairs[static_cast<std::size_t>(k)].second;
-    ContactManifold& m = s.pair_manifolds[static_cast<std::size_t>(k)];
+    const std::size_t slot = static_cast<std::size_t>(k);
+    const int a = pairs[slot].first, b = pairs[slot].second;
+    ContactManifold& m = s.pair_manifolds[slot];
+    CommonPlaneCache& plane = state_.planes[slot].cache;
     m.count = 0;
-    if (scene_.bodies[static_cast<std::size_t>(a)].fixed && scene_.bodies[static_cast<std::size_t>(b)].fixed) continue;
+    if (!s.in_reach[slot]) {  // as if not a pair: nothing kept
+      if (plane.valid) plane = CommonPlaneCache{};
+      if (reuse) state_.manifolds[slot].count = -1;
+      continue;
+    }
+    if (scene_.bodies[static_cast<std::size_t>(a)].fixed && scene_.bodies[static_cast<std::size_t>(b)].fixed) {
+      if (reuse) state_.manifolds[slot].count = -1;
+      continue;
+    }
     const CollisionBody& ca = s.placed[static_cast<std::size_t>(a)];
     const CollisionBody& cb = s.placed[static_cast<std::size_t>(b)];
-    if (reuse && manifold_reusable(ca, cb)) collide_reusing(k, ca, cb);
-    else collide_pair(ca, cb, margin, s.pair_planes[static_cast<std::size_t>(k)], m);
+    if (reuse && manifold_reusable(ca, cb)) {
+      collide_reusing(k, ca, cb);
+    } else {
+      collide_pair(ca, cb, margin, plane, m);
+      if (reuse) state_.manifolds[slot].count = -1;
+    }
+    if (!plane.valid) plane = CommonPlaneCache{};  // an invalid plane keeps nothing
   }
-  store_pair_planes();
-  if (reuse) store_pair_manifolds();
+  if (reuse) count_pair_fates();
   if (reuse && s.audit_on) reduce_reuse_audit();
   const int nw = static_cast<int>(scene_.container.walls.size());
   std::vector<Vec3> wall_points(static_cast<std::size_t>(nw));

@@ -34,6 +34,15 @@ struct PairAudit {
   double error = 0.0, per_motion = 0.0;
 };
 
+// Where a gathered contact comes from: manifold >= 0 a candidate pair's slot, -1 - k wall
+// pair k; point, its index in that manifold.
+struct GatheredFrom {
+  int manifold = 0, point = 0;
+};
+
+// What became of a candidate pair's kept manifold in a step (solver.manifold_reuse).
+enum PairFate : char { kNotKept = 0, kReplayed = 1, kBuilt = 2 };
+
 struct StepScratch {
   ThermalScales next;              // scales at t + h
   double eps_p = 0.0, eps_c = 0.0; // expansion rates (ds/dt)/s over the step
@@ -47,22 +56,21 @@ struct StepScratch {
   std::vector<CollisionBody> placed;  // per body, as the narrow phase sees it (points into world_vertices)
   std::vector<Vec3> centers;
   std::vector<double> radii;       // current bounding radii
-  std::vector<BodyPair> pairs;
   // Kept from step to step, unlike the rest: the broad phase's wider list, which only
   // saves grid searches (the pairs are the same with or without it).
   CandidatePairList pair_list;
   double pair_skin = -1.0;         // its skin (world/detect.cpp), set at the first step
-  std::vector<ContactManifold> pair_manifolds;
-  std::vector<CommonPlaneCache> pair_planes;    // per candidate pair (polyhedron pairs only)
-  std::vector<int> pair_kept;                   // per candidate pair: its kept manifold in the state, or -1
-  std::vector<KeptManifold> pair_keep;          // per candidate pair: the manifold built to keep (count -1: none; a replayed one stays in the state)
-  std::vector<char> pair_replayed;              // per candidate pair: 1 if its kept manifold was replayed
+  const std::vector<BodyPair>* candidates = nullptr;  // this step's candidate pairs (pair_list's)
+  std::vector<char> in_reach;      // per candidate: within reach now (the step's pairs)
+  std::vector<ContactManifold> pair_manifolds;  // per candidate (empty out of reach)
+  std::vector<char> pair_fate;     // per candidate: its kept manifold this step (PairFate)
   bool audit_on = false;                        // test hook: replayed pairs compared with fresh builds
   std::vector<PairAudit> pair_audit;
   std::vector<std::pair<int, int>> wall_pairs;  // (body, wall) within reach, body-major
   std::vector<ContactManifold> wall_manifolds;  // per wall pair
   std::vector<SolverContact> contacts;   // in the order of `colouring`
-  std::vector<SolverContact> gathered;   // as gathered, before the colour order
+  std::vector<int> kept_impulse;   // per contact as gathered: its kept impulse in the state, or -1
+  std::vector<GatheredFrom> gathered_from;  // per contact as gathered (before the colour order): its manifold point
   RowColouring colouring;          // the contacts' groups and colours (solver/row_colouring.hpp)
   std::vector<int> order, row_a, row_b;  // the colour order and its input
   std::vector<bool> moving;        // per body: not fixed

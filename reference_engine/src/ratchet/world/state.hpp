@@ -47,8 +47,12 @@ struct State {
   std::vector<Vec3> x, v, w;  // centre of mass, velocity, angular velocity (world)
   std::vector<Quat> q;        // orientation, body -> world
   std::vector<KeptImpulse> impulses;  // sorted by key
-  std::vector<KeptPlane> planes;      // sorted by (a, b)
-  std::vector<KeptManifold> manifolds;  // sorted by (a, b); only with solver.manifold_reuse > 0
+  // Sorted by (a, b). Between steps one entry per candidate pair of the broad phase
+  // (world/detect.cpp keeps them in place); an entry with cache.valid false, or
+  // count -1, holds nothing. State files keep only the others (io/state_file.hpp), and
+  // a state read from one has only those.
+  std::vector<KeptPlane> planes;
+  std::vector<KeptManifold> manifolds;  // only with solver.manifold_reuse > 0
 };
 
 }  // namespace ratchet

@@ -104,10 +104,8 @@ class World {
 
   // detect (world/detect.cpp)
   void prepare_bodies();
-  void load_pair_planes();
-  void store_pair_planes();
-  void load_pair_manifolds();
-  void store_pair_manifolds();
+  void align_pair_slots(const std::vector<BodyPair>& candidates, bool reuse);
+  void count_pair_fates();
   void collide_reusing(int k, const CollisionBody& a, const CollisionBody& b);
   void audit_replay(std::size_t slot, const CollisionBody& a, const CollisionBody& b, double moved);
   void reduce_reuse_audit();
@@ -116,6 +114,7 @@ class World {
   // solve (world/contact_rows.cpp; the global solve is solver/nsgs.hpp)
   void build_rows();
   void warm_start(SolverBodies& bodies);
+  void find_kept_impulses();
 
   SceneDef scene_;
   std::vector<double> body_mass_;    // per body, 0 for fixed bodies (the velocity norm skips them)
