@@ -58,14 +58,18 @@ TEST(Nsgs, VelocityCriterionMeasuresTheBodiesNotTheImpulses) {
 }
 
 // Compliance (docs/method.md s. 5): every contact's law holds for u + c lambda with
-// c = epsilon W_nn, the block W + c I in the local solve.
+// c = epsilon W_nn, the block W + c I in the local solve: its inverse in the rows, epsilon
+// in the settings.
 void make_compliant(test::Column& c, double epsilon) {
   for (SolverRow& r : c.rows) {
-    r.compliance = epsilon * r.W(0, 0);
     Mat3 Wc = r.W;
-    Wc.diagonal().array() += r.compliance;
+    Wc.diagonal().array() += row_compliance(r, epsilon);
     r.W_inv = Wc.inverse();
   }
+}
+SolveSettings with_compliance(SolveSettings s, double epsilon) {
+  s.compliance = epsilon;
+  return s;
 }
 
 // The compliant column has a known answer too: with every contact pressed, body k
@@ -76,12 +80,12 @@ TEST(Nsgs, CompliantColumnSolvesTheCompliantLaw) {
   test::Column c(10, 0.04, 0.5);
   make_compliant(c, epsilon);
   SolverBodies b = c.bodies();
-  const SolveResult r = solve_nsgs(c.rows, b, settings(100000, 1e-13, true), c.scratch);
+  const SolveResult r = solve_nsgs(c.rows, b, with_compliance(settings(100000, 1e-13, true), epsilon), c.scratch);
   ASSERT_TRUE(r.converged);
   Eigen::MatrixXd A = Eigen::MatrixXd::Zero(c.n, c.n);
   Eigen::VectorXd rhs = Eigen::VectorXd::Zero(c.n);
   for (int k = 0; k < c.n; ++k) {
-    const double ck = c.rows[static_cast<std::size_t>(k)].compliance;
+    const double ck = row_compliance(c.rows[static_cast<std::size_t>(k)], epsilon);
     A(k, k) = (k == 0 ? 1.0 : 2.0) + ck;  // u_n = v_k - v_{k-1} (v_0 against the floor)
     if (k > 0) A(k, k - 1) = -1.0;
     if (k + 1 < c.n) A(k, k + 1) = -1.0;
@@ -103,7 +107,7 @@ TEST(Nsgs, CompliantColumnSolvesTheCompliantLaw) {
   test::Column fast(10, 0.04, 0.5);
   make_compliant(fast, epsilon);
   SolverBodies bf = fast.bodies();
-  SolveSettings sf = settings(100000, 1e-13, true);
+  SolveSettings sf = with_compliance(settings(100000, 1e-13, true), epsilon);
   sf.anderson_depth = 5;
   ASSERT_TRUE(solve_nsgs(fast.rows, bf, sf, fast.scratch).converged);
   for (int k = 0; k < c.n; ++k)
@@ -126,7 +130,7 @@ TEST(Nsgs, CompliantSweepCountDoesNotGrowWithDepth) {
     test::Column c(n, 0.04, 0.0);
     make_compliant(c, epsilon);
     SolverBodies b = c.bodies();
-    const SolveResult r = solve_nsgs(c.rows, b, settings(1000000, 1e-8, false), c.scratch);
+    const SolveResult r = solve_nsgs(c.rows, b, with_compliance(settings(1000000, 1e-8, false), epsilon), c.scratch);
     EXPECT_TRUE(r.converged) << n << " " << epsilon;
     return r.sweeps;
   };
@@ -158,7 +162,7 @@ PushCase push_off_the_floor(double g_h, double cap, bool friction) {
   c.rows[0].bias = -5.0;
   c.rows[0].bias_capped = cap > 0.0 ? -cap : 0.0;
   SolverBodies b = c.bodies();
-  const SolveResult r = solve_nsgs(c.rows, b, settings(100, 1e-14, friction), c.scratch);
+  const SolveResult r = solve_nsgs(c.rows, b, with_compliance(settings(100, 1e-14, friction), 0.1), c.scratch);
   EXPECT_TRUE(r.converged);
   return {c.rows[0].lambda[0], c.v[0].z()};
 }

@@ -67,7 +67,7 @@ template <bool Record>
 // row is changed, and the caller finishes it (true).
 template <bool Record>
 [[gnu::always_inline]] inline bool solve_row(SolverRow& c, const BodyArrays& B, bool friction, bool rotation,
-                                             double& d2, double& l2, double* x, double* g,
+                                             double compliance, double& d2, double& l2, double* x, double* g,
                                              PutOff* put_off = nullptr) {
   // A row with no impulse whose gap stays open keeps none, with the bits of the full
   // solve below (w = u - W 0 + b, and every local law gives 0 for w_n >= 0; d and the
@@ -89,7 +89,8 @@ template <bool Record>
     w[0] += c.bias;
     Eigen::Vector2d hint;  // the last slide's direction starts Newton (local_coulomb.hpp)
     const Eigen::Vector2d* slid = slide_direction(c.lambda, c.mu, hint) ? &hint : nullptr;
-    const double shift = c.compliance > 0.0 ? c.compliance : 0.0;  // the compliant law: the block W + c I (docs/method.md s. 5)
+    const double c_row = row_compliance(c, compliance);
+    const double shift = c_row > 0.0 ? c_row : 0.0;  // the compliant law: the block W + c I (docs/method.md s. 5)
     LocalSolution sol;
     Vec3 stick;
     double lt = 0.0;
@@ -109,7 +110,7 @@ template <bool Record>
     if (c.bias_capped != 0.0) lambda_new = weaker_push(c, w, lambda_new);
   } else {
     const double w_n = u[0] - c.W(0, 0) * c.lambda[0] + c.bias;
-    double l_n = solve_local_normal(c.W(0, 0) + c.compliance, w_n);
+    double l_n = solve_local_normal(c.W(0, 0) + row_compliance(c, compliance), w_n);
     if (c.bias_capped != 0.0) {
       const double l_cap = solve_local_normal(c.W(0, 0), w_n - c.bias + c.bias_capped);
       const bool cap = c.law_kept == kCapLaw || (c.law_kept == 0 && l_cap < l_n);
@@ -133,6 +134,7 @@ struct SlidePairing {
   SolverRow* rows;
   const BodyArrays& B;
   bool rotation;
+  double compliance;
   double* gs;
   double* x;
   double* g;
@@ -167,7 +169,7 @@ struct SlidePairing {
   void row(int k, int grp, bool friction) {
     if (holding && held.group == grp) solve_held();  // it comes first in its group
     PutOff& slot = holding ? next : held;
-    if (!solve_row<Record>(rows[k], B, friction, rotation, gs[2 * grp], gs[2 * grp + 1],
+    if (!solve_row<Record>(rows[k], B, friction, rotation, compliance, gs[2 * grp], gs[2 * grp + 1],
                            Record ? x + 3 * k : x, Record ? g + 3 * k : g, &slot))
       return;
     slot.row = k;
@@ -183,12 +185,13 @@ struct SlidePairing {
 // order, the same sums for any thread count. Without a colouring, one group of all rows.
 template <bool Record>
 void sweep(std::vector<SolverRow>& cs, SolverBodies& bodies, const RowColouring* colouring, int parallel_min_rows,
-           bool friction, bool rotation, double& d2, double& l2, std::vector<double>& sums, double* x = nullptr,
-           double* g = nullptr) {
+           bool friction, bool rotation, double compliance, double& d2, double& l2, std::vector<double>& sums,
+           double* x = nullptr, double* g = nullptr) {
   const BodyArrays B = arrays_of(bodies);
   if (colouring == nullptr) {
     for (std::size_t k = 0; k < cs.size(); ++k)
-      solve_row<Record>(cs[k], B, friction, rotation, d2, l2, Record ? x + 3 * k : x, Record ? g + 3 * k : g);
+      solve_row<Record>(cs[k], B, friction, rotation, compliance, d2, l2, Record ? x + 3 * k : x,
+                        Record ? g + 3 * k : g);
     return;
   }
   const RowColouring& col = *colouring;
@@ -200,7 +203,7 @@ void sweep(std::vector<SolverRow>& cs, SolverBodies& bodies, const RowColouring*
   const int* cb = col.colour_begin.data();
 #pragma omp parallel if (static_cast<int>(cs.size()) > parallel_min_rows)
   {
-    SlidePairing<Record> pairing{rows, B, rotation, gs, x, g, {}, {}};
+    SlidePairing<Record> pairing{rows, B, rotation, compliance, gs, x, g, {}, {}};
     for (int c = 0; c < nc; ++c) {
 #pragma omp for schedule(static) nowait
       for (int grp = cb[c]; grp < cb[c + 1]; ++grp) {
@@ -296,10 +299,11 @@ SolveResult solve_nsgs(std::vector<SolverRow>& cs, SolverBodies& B, const SolveS
     if (set.by_velocity) { s.v_sweep = B.v; s.w_sweep = B.w; }
     double d2 = 0.0, l2 = 0.0;
     if (accelerate)
-      sweep<true>(cs, B, set.colouring, set.parallel_min_rows, friction, rotation, d2, l2, s.group_sums,
+      sweep<true>(cs, B, set.colouring, set.parallel_min_rows, friction, rotation, set.compliance, d2, l2, s.group_sums,
                   mixer.record_buffer(cs.size(), false), mixer.record_buffer(cs.size(), true));
     else
-      sweep<false>(cs, B, set.colouring, set.parallel_min_rows, friction, rotation, d2, l2, s.group_sums);
+      sweep<false>(cs, B, set.colouring, set.parallel_min_rows, friction, rotation, set.compliance, d2, l2,
+                   s.group_sums);
     if (friction) tangential += static_cast<std::int64_t>(cs.size());
     if (set.by_velocity) {
       const double de = velocity_change(B, s.v_sweep, s.w_sweep, rotation);

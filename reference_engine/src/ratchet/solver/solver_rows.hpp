@@ -18,24 +18,31 @@ namespace ratchet {
 // What one local solve of the sweep reads and writes, packed in its own array (hot
 // data): the operators are built once per step so that a local solve is a few 3x3
 // products, u = F^T (v_a - v_b) + J_a w_a - J_b w_b + u0 and, for an impulse change d,
-// v_a += m_a^-1 F d, w_a += I_a^-1 J_a^T d (and minus for B). 440 bytes: a bed of 2000
-// has about 8500 contacts, and every sweep streams them all.
-struct SolverRow {
+// v_a += m_a^-1 F d, w_a += I_a^-1 J_a^T d (and minus for B). 448 bytes, seven cache
+// lines from a line's start: a bed of 2000 has about 9000 rows (4 MB, beyond L2) and
+// every sweep streams them all. The first line holds what the passes that touch a row
+// without solving it read (the impulse and its cone for Anderson's extrapolation, the
+// biases of an open row), so that they load one line, not two. The compliance is not
+// kept per row: c = solver.compliance * W_nn (SolveSettings::compliance).
+struct alignas(64) SolverRow {
   int a = 0, b = 0;                // bodies; b may name a wall (core/contact_side.hpp)
-  Mat3 F = Mat3::Identity();       // columns n, t1, t2 (world)
-  Mat3 Ja = Mat3::Zero(), Jb = Mat3::Zero();  // rows r x e_k: angular velocity -> local velocity
-  Mat3 W = Mat3::Zero();           // local Delassus block W = H^T M^-1 H (only W(0,0) without friction)
-  Mat3 W_inv = Mat3::Zero();       // (W + c I)^-1 (the stick solution), with friction only
-  double compliance = 0.0;         // c = solver.compliance * W_nn: the local law holds for u + c lambda (docs/method.md s. 5)
   double mu = 0.0;
+  Vec3 lambda = Vec3::Zero();      // local impulse (n, t1, t2) on A
   double bias = 0.0;               // b: u_n + b >= 0 is the velocity form of g(t+h) >= 0
   double bias_capped = 0.0;        // compliant rows: -(speed cap) when it binds, else 0 (docs/method.md s. 5)
   // Which of a capped row's two laws its last solve took (1 spring, 2 cap), and, once a
   // stalled solve has frozen it, the one it keeps (0: the weaker push, chosen each time).
   std::int8_t law_taken = 0, law_kept = 0;
+  Mat3 F = Mat3::Identity();       // columns n, t1, t2 (world)
   Vec3 u0 = Vec3::Zero();          // F^T u_expansion: the local velocity no body velocity explains
-  Vec3 lambda = Vec3::Zero();      // local impulse (n, t1, t2) on A
+  Mat3 Ja = Mat3::Zero(), Jb = Mat3::Zero();  // rows r x e_k: angular velocity -> local velocity
+  Mat3 W = Mat3::Zero();           // local Delassus block W = H^T M^-1 H (only W(0,0) without friction)
+  Mat3 W_inv = Mat3::Zero();       // (W + c I)^-1 (the stick solution), with friction only
 };
+static_assert(sizeof(SolverRow) == 448, "seven cache lines: a new field costs a line per row and sweep");
+
+// The compliance c of a row (docs/method.md s. 5): the local law holds for u + c lambda.
+inline double row_compliance(const SolverRow& r, double compliance) { return compliance * r.W(0, 0); }
 
 // The bodies as the solve sees them: velocities it updates, inverse masses and world
 // inverse inertias it applies impulses with, and what the velocity criterion's
@@ -125,6 +132,7 @@ struct SolveSettings {
   bool friction = true;
   bool rotation = true;
   int anderson_depth = 0;    // > 0: Anderson acceleration with this memory (solver/anderson.hpp)
+  double compliance = 0.0;   // solver.compliance: each row's c = compliance * W_nn (row_compliance)
   bool rigid = false;        // the rigid law (solver.compliance 0): an accelerated solve also reports persistent_growth
   int parallel_min_rows = kParallelMinRows;
   const RowColouring* colouring = nullptr;  // the rows' colouring (parallel sweep), or null: one thread in row order

@@ -97,11 +97,11 @@ void World::build_rows() {
     }
     // Compliance relative to the contact's own Delassus diagonal, as MuJoCo's
     // regularizer R = (1 - d)/d diag(A) (Todorov 2014; docs/method.md s. 5).
-    r.compliance = scene_.solver.compliance * r.W(0, 0);
+    const double compliance = row_compliance(r, scene_.solver.compliance);
     r.W_inv.setZero();
     if (friction_on_) {
       Mat3 Wc = r.W;
-      Wc.diagonal().array() += r.compliance;
+      Wc.diagonal().array() += compliance;
       r.W_inv = Wc.inverse();
     }
     r.u0 = r.F.transpose() * c.u_expansion;
@@ -121,8 +121,8 @@ void World::build_rows() {
       const double speed = p_gap * -g / h;
       const double cap = std::sqrt(2.0 * g_star * std::max(-g, margin));
       const bool capped = speed > cap;
-      r.bias = -(capped && r.compliance == 0.0 ? cap : speed);
-      r.bias_capped = capped && r.compliance > 0.0 ? -cap : 0.0;
+      r.bias = -(capped && compliance == 0.0 ? cap : speed);
+      r.bias_capped = capped && compliance > 0.0 ? -cap : 0.0;
     }
     r.lambda.setZero();
     r.law_taken = r.law_kept = 0;

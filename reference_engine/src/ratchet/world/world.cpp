@@ -151,6 +151,7 @@ void World::solve() {
   settings.friction = friction_on_;
   settings.rotation = rotation_on_;
   if (scene_.solver.acceleration == Acceleration::Anderson) settings.anderson_depth = scene_.solver.anderson_depth;
+  settings.compliance = scene_.solver.compliance;
   settings.rigid = scene_.solver.compliance == 0.0;
   settings.colouring = &scratch_.colouring;
   if (test_hooks().parallel_min_rows >= 0) settings.parallel_min_rows = test_hooks().parallel_min_rows;
