@@ -93,6 +93,12 @@ void realign(std::vector<Kept>& kept, const std::vector<BodyPair>& candidates, c
 }  // namespace
 
 void World::align_pair_slots(const std::vector<BodyPair>& candidates, bool reuse) {
+  StepScratch& s = scratch_;
+  // Aligned at the last step, with the same candidates and the state not handed out for
+  // change since (mutable_state): nothing to check (the check reads every slot's pair).
+  if (s.slots_aligned && s.slots_search == s.pair_list.searches()) return;
+  s.slots_aligned = true;
+  s.slots_search = s.pair_list.searches();
   if (!aligned(state_.planes, candidates))
     realign(state_.planes, candidates, KeptPlane{}, [](const KeptPlane& p) { return p.cache.valid; });
   if (reuse && !aligned(state_.manifolds, candidates)) {

@@ -61,6 +61,8 @@ struct StepScratch {
   CandidatePairList pair_list;
   double pair_skin = -1.0;         // its skin (world/detect.cpp), set at the first step
   const std::vector<BodyPair>* candidates = nullptr;  // this step's candidate pairs (pair_list's)
+  bool slots_aligned = false;      // the state's planes and manifolds are one per candidate (World::align_pair_slots)
+  long long slots_search = -1;     // at the pair list's search of this number
   std::vector<char> in_reach;      // per candidate: within reach now (the step's pairs)
   std::vector<ContactManifold> pair_manifolds;  // per candidate (empty out of reach)
   std::vector<char> pair_fate;     // per candidate: its kept manifold this step (PairFate)

@@ -79,7 +79,12 @@ class World {
 
   const SceneDef& scene() const { return scene_; }
   const State& state() const { return state_; }
-  State& mutable_state() { return state_; }
+  // The state to replace or change between steps (a packing, a checkpoint): the next
+  // step checks what it keeps per candidate pair anew (world/detect.cpp).
+  State& mutable_state() {
+    scratch_.slots_aligned = false;
+    return state_;
+  }
   const StepStats& stats() const { return stats_; }    // the last step
   const RunTotals& totals() const { return totals_; }  // the run so far
   const PhaseTimers& timers() const { return timers_; }
