@@ -107,7 +107,9 @@ def test_runs_are_stored_with_provenance_and_a_second_invocation_runs_nothing(ti
 def test_a_run_longer_than_the_budget_starts_while_the_minimum_slice_is_left(tmp_path):
     # A run estimated far beyond the budget (a paper-tier run on one core is longer than a
     # session): with a minimum slice it starts and stops at a checkpoint; without, it waits.
-    plan = write_plan(tmp_path, name="slice", seed_list=(3,), angles=(0,), set={**TINY_SET, "thermal.cycles": 20})
+    # 400 cycles of 12 bodies take far more than the 2 s budget on any machine (20 cycles
+    # took under 2 s on a fast one, and the run was stored instead of stopped).
+    plan = write_plan(tmp_path, name="slice", seed_list=(3,), angles=(0,), set={**TINY_SET, "thermal.cycles": 400})
     budget = f"{2.0 / 3600:.8f}"   # 2 s: the pour, not the cycles
     waits = campaign(plan, tmp_path / "w0", tmp_path / "r0", "--budget", budget, "--stop-margin", "0.5",
                      "--golden-check", "skip", "--run-hours", "100", "--min-slice", "0")
