@@ -1,7 +1,8 @@
 // Sweep plans: the grid's cartesian product (last key fastest, seeds innermost), a list
 // of points, seeds versus realizations, the scene of each run, packings shared by the
 // runs that differ only in what the packing key leaves out, rejected sweep files, and
-// the completion test (same scene, same engine) for runs and packings.
+// the completion test (same scene, same engine) for runs and packings, and why a
+// checkpoint is not resumed.
 #include "ratchet/run/sweep.hpp"
 
 #include <gmock/gmock.h>
@@ -11,6 +12,7 @@
 #include <fstream>
 
 #include "ratchet/io/state_file.hpp"
+#include "ratchet/run/checkpoint.hpp"
 #include "ratchet/run/packing.hpp"
 #include "ratchet/run/run_output.hpp"
 #include "ratchet/scene/scene.hpp"
@@ -218,6 +220,39 @@ TEST(PackingReady, OnlyAWholePackingOfTheSameKeyAndEngine) {
   write_state_file(packing_path(plan, p.key), f);
   EXPECT_FALSE(packing_ready(plan, p));
   EXPECT_EQ(needed_packings(plan), (std::vector<int>{0}));
+}
+
+// A run that cannot go on from the checkpoint it left starts over: the sweep says why
+// (the steps it held are lost), and a missing checkpoint is no reason.
+TEST(ResumableCheckpoint, SaysWhyACheckpointOfAnotherEngineOrSceneIsNotResumed) {
+  Dir dir("resumable");
+  const SweepPlan plan = load_sweep(dir.write({{"scene", kScene}}), dir.path.string());
+  const std::string d = run_dir(plan, 0);
+  fs::create_directories(d);
+  World world(build_scene(plan.runs[0].scene, "s.json"));
+  std::string why = "stale";
+  EXPECT_FALSE(resumable_checkpoint(d, world.scene(), &why).has_value());
+  EXPECT_EQ(why, "");  // none: nothing lost
+
+  write_checkpoint(d, world, json::object());
+  EXPECT_TRUE(resumable_checkpoint(d, world.scene(), &why).has_value());
+  EXPECT_EQ(why, "");
+
+  json other_scene = plan.runs[0].scene;
+  other_scene["time"]["dt"] = 0.02;
+  World other(build_scene(other_scene, "s.json"));
+  write_checkpoint(d, other, json::object());
+  EXPECT_FALSE(resumable_checkpoint(d, world.scene(), &why).has_value());
+  EXPECT_THAT(why, HasSubstr("a checkpoint of another scene"));
+
+  write_checkpoint(d, world, json::object());
+  const std::string path = d + "/" + kCheckpointFileName;
+  StateFile f = read_state_file(path);
+  f.meta["engine"]["source_hash"] = "0123456789abcdef";
+  write_state_file(path, f);
+  EXPECT_FALSE(resumable_checkpoint(d, world.scene(), &why).has_value());
+  EXPECT_THAT(why, HasSubstr(path));
+  EXPECT_THAT(why, HasSubstr("only the same engine continues a run bit for bit"));
 }
 
 }  // namespace

@@ -144,17 +144,25 @@ json read_run_json(const SweepPlan& plan, int id) {
   return j.is_discarded() ? json() : j;
 }
 
-// The checkpoint an interrupted run of this scene left in `dir`; none when there is
-// none, or it is damaged, of another engine or of another scene (the run starts over).
-std::optional<ResumePoint> checkpoint_of(const std::string& dir, const SceneDef& scene) {
+}  // namespace
+
+std::optional<ResumePoint> resumable_checkpoint(const std::string& dir, const SceneDef& scene, std::string* why_not) {
+  if (why_not != nullptr) why_not->clear();
   if (!std::filesystem::is_regular_file(dir + "/" + kCheckpointFileName)) return std::nullopt;
+  std::string reason;
   try {
     ResumePoint point = read_checkpoint(dir);
     if (point.scene.hash == scene.hash) return point;
-  } catch (const std::exception&) {
+    reason = dir + "/" + kCheckpointFileName + ": a checkpoint of another scene (hash " + point.scene.hash +
+             ", this run's is " + scene.hash + ")";
+  } catch (const std::exception& e) {
+    reason = e.what();
   }
+  if (why_not != nullptr) *why_not = reason;
   return std::nullopt;
 }
+
+namespace {
 
 }  // namespace
 
@@ -290,7 +298,8 @@ void run_sweep(const SweepPlan& plan, const std::vector<int>& ids, int jobs,
         RunOptions opt;
         opt.out_dir = run_dir(plan, run.id);
         opt.command_line = plan.command_line;
-        if (const std::optional<ResumePoint> point = checkpoint_of(opt.out_dir, world.scene())) {
+        std::string not_resumed;
+        if (const std::optional<ResumePoint> point = resumable_checkpoint(opt.out_dir, world.scene(), &not_resumed)) {
           // An interrupted run goes on from its last checkpoint (run/checkpoint.hpp).
           resume_world(world, *point);
           opt.resume = point->run;
@@ -298,11 +307,17 @@ void run_sweep(const SweepPlan& plan, const std::vector<int>& ids, int jobs,
             std::lock_guard<std::mutex> lock(mutex);
             progress("run " + std::to_string(run.id) + " resumes at step " + std::to_string(world.state().step));
           }
-        } else if (!run.packing_key.empty()) {
-          const std::string path = packing_path(plan, run.packing_key);
-          const json meta = load_packing(path, world);
-          opt.packing = packing_reference(path, world);
-          opt.packing_settle = meta.value("settle", json());
+        } else {
+          if (!not_resumed.empty() && progress) {  // the steps it held are lost: say so
+            std::lock_guard<std::mutex> lock(mutex);
+            progress("run " + std::to_string(run.id) + " starts over, its checkpoint not resumed: " + not_resumed);
+          }
+          if (!run.packing_key.empty()) {
+            const std::string path = packing_path(plan, run.packing_key);
+            const json meta = load_packing(path, world);
+            opt.packing = packing_reference(path, world);
+            opt.packing_settle = meta.value("settle", json());
+          }
         }
         const RunResult r = run_world(world, opt);
         const int n = ++done;

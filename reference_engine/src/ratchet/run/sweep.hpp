@@ -5,10 +5,14 @@
 #pragma once
 
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
+
+#include "ratchet/run/checkpoint.hpp"
+#include "ratchet/scene/scene.hpp"
 
 namespace ratchet {
 
@@ -43,6 +47,13 @@ SweepPlan load_sweep(const std::string& path, const std::string& out_dir,
                      const std::vector<std::string>& overrides = {});
 
 std::string run_dir(const SweepPlan& plan, int id);
+
+// The checkpoint an interrupted run of this scene left in `dir` (run/checkpoint.hpp), if
+// it can go on from it; none when there is none, or when it is damaged, of another
+// engine or of another scene: the run then starts over, and *why_not (if given) says
+// why (empty when there was no checkpoint at all).
+std::optional<ResumePoint> resumable_checkpoint(const std::string& dir, const SceneDef& scene,
+                                                std::string* why_not = nullptr);
 
 // True if DIR/runs/<id>/run.json says completed for this run's scene hash.
 bool run_completed(const SweepPlan& plan, const SweepRun& run);
