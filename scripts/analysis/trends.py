@@ -230,6 +230,26 @@ CHECKS: dict[str, CheckDef] = {c.id: c for c in (
                "energy scales with the square of the strain (Fig. 7b)",
         tier_reasons=_CURVATURE_REASONS),
     CheckDef(
+        id="wrms_early_larger", sweep="both", check="W_rms first window > last ({point})",
+        figure="Fig. 6 text, Fig. 7a text",
+        rule="per run, d = W_rms of the first vorticity window minus that of the last (summary.csv, "
+             "the same run); over the realizations of the point, interval mean +- k sem, k the "
+             "Student t quantile at `level` (n - 1 dof); pass: the interval above 0; opposite "
+             "resolved: the interval below 0; else (or one realization) not resolved; needs two "
+             "windows",
+        tolerance=_LEVEL,
+        reason="paper: 'the magnitude of the vorticity in the first 10 cycles is higher than in "
+               "the second 10 cycles because when the system has lower density, the particles "
+               "can move more freely' (Fig. 6); 'the magnitudes are larger at the beginning "
+               "stages of the thermal loading' (Fig. 7a)",
+        tier_reasons={
+            "quick": "level 0.95 as at every tier: one bed per point has no scatter estimate and "
+                     "reads not resolved; its windows lie before any steady state",
+            "standard": "level 0.95: paired per run (the same bed in both windows), so the beds' "
+                        "own scatter cancels; 2 realizations give 1 dof (k = 12.7)",
+            "paper": "level 0.95: the paper gives the order of the two windows, no number; "
+                     "5 realizations per point, paired per run"}),
+    CheckDef(
         id="volume_end", sweep="both", check="V/V0 at the end ({point})",
         figure="Fig. 4",
         rule="V_over_V0_end over the realizations of the point: interval mean +- k sem, k the "
@@ -943,6 +963,57 @@ def _volume_checks(a: Analysis) -> list[CheckResult]:
     return out
 
 
+# ---- vorticity over the cycles
+
+
+def _vorticity_decline_checks(a: Analysis) -> list[CheckResult]:
+    """wrms_early_larger per point: the first window's W_rms against the last's, paired
+    per run."""
+    definition = CHECKS["wrms_early_larger"]
+    level = definition.params(a.tier)["level"]
+    points = sorted(a.data[a.x].dropna().unique())
+    windows = a.sweep.windows
+    if len(windows) < 2:
+        return [_skip(a.case, definition, definition.check.format(point="all points"),
+                      f"{len(windows)} vorticity window(s) in summary.csv; the order needs two", a.tier)]
+    first = min(windows, key=lambda w: (w.first, w.last))
+    last = max(windows, key=lambda w: (w.last, w.first))
+    out = []
+    for value in points:
+        check = definition.check.format(point=a.point_label(value))
+        rows = a.data[np.isclose(a.data[a.x], value)]
+        early = pd.to_numeric(rows[first.column], errors="coerce")
+        late = pd.to_numeric(rows[last.column], errors="coerce")
+        d = (early - late)[np.isfinite(early) & np.isfinite(late)]
+        if d.empty:
+            out.append(_skip(a.case, definition, check,
+                             f"no run with finite {first.column} and {last.column}", a.tier))
+            continue
+        stat = fits.mean_interval(d, level)
+        detail = {k: stat[k] for k in ("n", "std", "sem", "k", "low", "high")}
+        detail.update({"first": first.label, "last": last.label,
+                       "first_mean": float(early[d.index].mean()), "last_mean": float(late[d.index].mean())})
+        texts = (f"W_rms {detail['first_mean']:.4g} ({first.label}) against {detail['last_mean']:.4g} "
+                 f"({last.label})")
+        if stat["n"] < 2:
+            status, why = "unresolved", "one realization gives no estimate of the scatter"
+            tolerance = f"{level:.0%} interval of the difference above 0; n/a with one realization; {texts}"
+        else:
+            tolerance = f"{_interval_text(stat, level, 3)} of the difference above 0; {texts}"
+            if stat["low"] > 0.0:
+                status, why = "passed", ""
+            elif stat["high"] < 0.0:
+                status = against(a.tier)
+                why = (f"the vorticity grows: W_rms of {last.label} exceeds that of {first.label}, "
+                       f"the {level:.0%} interval of the difference lies below 0")
+            else:
+                status = "unresolved"
+                why = (f"the change between the windows is within the scatter: the {level:.0%} "
+                       f"interval [{stat['low']:.3g}, {stat['high']:.3g}] holds 0")
+        out.append(_result(a, definition, check, status, stat["mean"], "> 0", tolerance, why, detail))
+    return out
+
+
 def analyse(sweep: Sweep, kind: str, tier: str, case: str | None = None) -> Analysis:
     """All fits and checks of one sweep along `kind` ("angle" or "ratio")."""
     if tier not in TIERS:
@@ -981,6 +1052,7 @@ def analyse(sweep: Sweep, kind: str, tier: str, case: str | None = None) -> Anal
                 a.results.append(_curvature_check(a, w_def, window.column, check))
             else:
                 a.results.append(_slope_check(a, w_def, window.column, check, direction))
+    a.results.extend(_vorticity_decline_checks(a))
     a.results.extend(_volume_checks(a))
     from . import fields  # Fig. 5, Fig. 6, steady state; it imports this module
     a.results.extend(fields.checks(a))
