@@ -164,10 +164,6 @@ std::optional<ResumePoint> resumable_checkpoint(const std::string& dir, const Sc
 
 namespace {
 
-}  // namespace
-
-namespace {
-
 // A run's run.json `j` shows it complete: completed, for the scene the sweep builds
 // now, by this engine (an engine change reruns it: docs/sweeps.md, "Resume").
 bool completed(const json& j, const SweepRun& run) {

@@ -228,11 +228,11 @@ inline bool positive_zeros(const Vec3& v) {
   return (b[0] | b[1] | b[2]) == 0;
 }
 
+constexpr int kWriteAhead = 8;  // rows fetched ahead by write_extrapolated
+
 // The extrapolated impulses into the rows, and the body velocities for them: the same
 // mix of the velocity history (they are linear in the impulses), corrected by the rows
 // whose projection onto the cone changed their impulse.
-constexpr int kWriteAhead = 8;  // rows fetched ahead by write_extrapolated
-
 void write_extrapolated(std::vector<SolverRow>& cs, const AndersonMixer& mixer, SolverBodies& B, bool rotation,
                         const RowColouring* colouring, int parallel_min_rows) {
   mixer.extrapolated_velocities(B.v, B.w);
