@@ -559,6 +559,12 @@ def test_one_realization_or_one_window_cannot_order_the_vorticity(tmp_path):
     assert set(statuses(analyse(one, "angle"), "wrms_early_larger")) == {"unresolved"}
     single = build_sweep(tmp_path / "single", "angle", ANGLES, halving, windows=((0, 6),))
     assert statuses(analyse(single, "angle"), "wrms_early_larger") == ["skipped"]
+    # The quick tier's windows, cycles 0-1 and 1-3: a window twice as long sums twice the
+    # drift, so their order says nothing about the bed.
+    unequal = build_sweep(tmp_path / "unequal", "angle", ANGLES, halving, windows=((0, 1), (1, 3)),
+                          wrms={(0, 1): lambda t: 0.05, (1, 3): lambda t: 0.1})
+    result = results_by_id(analyse(unequal, "angle"))["wrms_early_larger"]
+    assert [r.status for r in result] == ["skipped"] and "different numbers of cycles" in result[0].reason
 
 
 def test_a_bed_that_dilates_is_contradicted_and_fails_at_the_papers_scale(tmp_path):
