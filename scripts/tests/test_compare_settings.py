@@ -75,6 +75,14 @@ def test_table_agrees_with_the_runs(done):
         run = json.loads((out / "runs" / f"soft-s{s}" / "run.json").read_text())
         assert run["scene"]["solver"]["compliance"] == 0.1
         assert run["packing"]["file"].endswith(f"s{s}.state")
+    # The overlaps come from the sampled steps after the packing's row; the stiffer law
+    # (rigid here) must not overlap more deeply than the compliant one at its worst.
+    for n in ("rigid", "soft"):
+        depth = [pd.read_csv(out / "runs" / f"{n}-s{s}" / "timeseries.csv")["max_overlap"].iloc[1:].max()
+                 for s in (1, 2)]
+        assert res["observables"]["max_overlap_max"][n]["mean"] == pytest.approx(np.mean(depth), rel=1e-12)
+    assert (res["observables"]["max_overlap_max"]["rigid"]["mean"]
+            <= res["observables"]["max_overlap_max"]["soft"]["mean"])
     assert (out / "comparison.md").read_text().count("|") > 10
     assert (out / "figures" / "compare_settings.png").stat().st_size > 1000
 
