@@ -156,6 +156,11 @@ class Runner:
         if fd is None:
             self.say(f"skip {state.run.label}: another process is running it (lock {folder.lock_file})")
             return None
+        if self._stored_meanwhile(state):
+            os.close(fd)
+            self.say(f"skip {state.run.label}: another process stored it since this invocation began "
+                     f"({store.folder_of(self.results, state.run)})")
+            return None
         if folder.forget_other_engine(self.engine):
             self.say(f"{state.run.label}: its work folder was of another engine; starting it over")
         folder.write_sweep(self.plan)
@@ -178,6 +183,16 @@ class Runner:
                  f"log {folder.log}")
         return Active(state=state, proc=proc, lock_fd=fd, command=command, started=time.monotonic(),
                       started_iso=now_iso())
+
+    def _stored_meanwhile(self, state: RunState) -> bool:
+        """A current result of the run in the results folder now, though there was none when
+        the queue was made: two invocations share the plan, and the other one finished it
+        (its lock is gone by then)."""
+        if state.done:
+            return False
+        stored = store.read(self.results, state.run)
+        return stored is not None and store.judge(stored, self.plan.scene_for(state.run), self.engine.record(),
+                                                  self.golden_check).current
 
     def _reap(self, active: dict, outcome: Outcome, block: bool) -> None:
         for pid in list(active):

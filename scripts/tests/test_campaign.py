@@ -104,6 +104,29 @@ def test_runs_are_stored_with_provenance_and_a_second_invocation_runs_nothing(ti
     assert "nothing to run" in dry.stdout
 
 
+def test_a_run_another_invocation_stored_meanwhile_is_not_run_again(tiny, tmp_path):
+    # Two invocations share a plan (one per core): each made its queue at its start, and
+    # the other one stored this run since. It is skipped, not started and stored again.
+    from campaign_lib import state as campaign_state
+    from campaign_lib.plan import load_plan
+    from campaign_lib.runner import Runner
+    root, plan_file, _ = tiny
+    plan, engine = load_plan(plan_file), identify(RATCHET)
+    results = tmp_path / "results"
+    queue = campaign_state.todo(campaign_state.survey(plan, tmp_path / "work", results, engine, None))
+    assert [s.run.label for s in queue][:1] == ["theta0/seed1"]
+    shutil.copytree(root / "results" / "theta0", results / "theta0")  # the other invocation's result
+    before = (results / "theta0" / "seed1" / "provenance.json").read_bytes()
+    said = []
+    runner = Runner(plan, tmp_path / "work", results, engine, None, [], 1, 1.0, 60.0, 5.0, 600.0, False,
+                    said.append)
+    outcome = runner.run(queue[:1])
+    assert outcome.stored == [] and outcome.failed == []
+    assert any(line.startswith("skip theta0/seed1: another process stored it") for line in said), said
+    assert not any(line.startswith("start ") for line in said), said
+    assert (results / "theta0" / "seed1" / "provenance.json").read_bytes() == before
+
+
 def test_a_run_longer_than_the_budget_starts_while_the_minimum_slice_is_left(tmp_path):
     # A run estimated far beyond the budget (a paper-tier run on one core is longer than a
     # session): with a minimum slice it starts and stops at a checkpoint; without, it waits.
