@@ -83,6 +83,10 @@ def test_table_agrees_with_the_runs(done):
         assert res["observables"]["max_overlap_max"][n]["mean"] == pytest.approx(np.mean(depth), rel=1e-12)
     assert (res["observables"]["max_overlap_max"]["rigid"]["mean"]
             <= res["observables"]["max_overlap_max"]["soft"]["mean"])
+    # The cost is the step's phases (timed over every installment of a resumed run).
+    run = json.loads((out / "runs" / "soft-s1" / "run.json").read_text())
+    assert res["observables"]["step_seconds"]["soft"]["n"] == 2
+    assert 0 < sum(ph["seconds"] for ph in run["phases"]) <= run["wall_seconds"]
     assert (out / "comparison.md").read_text().count("|") > 10
     assert (out / "figures" / "compare_settings.png").stat().st_size > 1000
 
@@ -187,6 +191,13 @@ def test_a_stopped_plan_goes_on_from_the_checkpoints(done, tmp_path):
     assert all((d / "checkpoint.state").is_file() for d in stopped)
     r = call(plan, "--out", out)
     assert r.returncode == 0, r.stderr
+    # A resumed run's phase timers count its first installment's steps too: the
+    # comparison's cost covers the whole run, not the last installment's wall time.
+    for d in stopped:
+        run = json.loads((d / "run.json").read_text())
+        solve = next(ph for ph in run["phases"] if ph["name"] == "solve")
+        steps = pd.read_csv(d / "timeseries.csv")["step"]
+        assert solve["calls"] == steps.iloc[-1] - steps.iloc[0], solve  # from the packing's step to the end
     for name in ("rigid", "soft"):
         for s in (1, 2):
             a = pd.read_csv(out / "runs" / f"{name}-s{s}" / "timeseries.csv", dtype=str)
