@@ -297,9 +297,9 @@ SolveResult solve_nsgs(std::vector<SolverRow>& cs, SolverBodies& B, const SolveS
   bool accelerate = set.anderson_depth > 0;
   // Stall guard of the acceleration: the residual must halve within kStallSweeps sweeps
   // of the last halving, or the rest of the solve runs plain sweeps, which contract for
-  // every compliant problem (W + c I is positive definite) while a projected
+  // a frictionless compliant problem (W + c I is positive definite) while a projected
   // extrapolation can cycle near the cones' edges (a 400 bed stopped at the 5000 cap
-  // with residual 4e-4).
+  // with residual 4e-4). With friction they need not: docs/method.md, Stall guard.
   double mark = HUGE_VAL;
   int mark_it = 0;
   for (it = 1; it <= set.max_iterations && !cs.empty(); ++it) {
