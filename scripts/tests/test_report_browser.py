@@ -213,7 +213,7 @@ class _BodyAttribute(HTMLParser):
 
 @pytest.fixture(scope="module")
 def page(tmp_path_factory):
-    """The report as Chromium shows it: {"out", "figure", "shot", "measured"}."""
+    """The report as Chromium shows it: {"out", "figure", "shot", "measured", "shoot_again"}."""
     browser = chromium()
     root = tmp_path_factory.mktemp("report_browser")
     checks, out, build = root / "checks", root / "out", root / "build"
@@ -250,7 +250,15 @@ def page(tmp_path_factory):
     parser = _BodyAttribute("data-measured")
     parser.feed(dom)
     assert parser.value, "the measuring script wrote nothing: did the page load?\n" + dom[:2000]
-    return {"out": out, "figure": png, "shot": shot, "measured": json.loads(parser.value)}
+
+    def shoot_again(name: str) -> Path:
+        """Another screenshot of the same page, with a fresh profile."""
+        again = root / f"{name}.png"
+        run_browser(browser, root / f"home-{name}", html.as_uri(), f"--screenshot={again}")
+        return again
+
+    return {"out": out, "figure": png, "shot": shot, "measured": json.loads(parser.value),
+            "shoot_again": shoot_again}
 
 
 def test_the_first_viewport_shows_the_title_the_verdict_and_the_whole_summary(page):
@@ -343,18 +351,29 @@ def test_the_screenshot_shows_legible_ink_in_every_text_of_the_first_viewport(pa
     # scale in some channel: the report's text gives 0.65 (the failed verdict's red on
     # pink) to 0.87, pale #ccc text on white 0.2, an unpainted or background-coloured
     # text 0 to 0.004.
-    pixels = matplotlib.image.imread(page["shot"])[..., :3]
     inside = [t for t in page["measured"]["texts"]
               if t["box"]["bottom"] <= HEIGHT and t["box"]["right"] <= WIDTH]
     assert len(inside) > 50  # the header, verdict, contents, summary and more
-    faint = {}
-    for t in inside:
-        box = t["box"]
-        # 2 px inside the box: clear of the 1 px cell borders, which are no text
-        region = pixels[round(box["top"]) + 2:round(box["bottom"]) - 2,
-                        round(box["left"]) + 2:round(box["right"]) - 2].reshape(-1, 3)
-        colours, counts = np.unique(region, axis=0, return_counts=True)
-        contrast = float(abs(region - colours[counts.argmax()]).max()) if len(region) else 0.0
-        if contrast < 0.4:
-            faint[t["text"]] = round(contrast, 3)
+
+    def faint_texts(shot: Path) -> dict:
+        pixels = matplotlib.image.imread(shot)[..., :3]
+        faint = {}
+        for t in inside:
+            box = t["box"]
+            # 2 px inside the box: clear of the 1 px cell borders, which are no text
+            region = pixels[round(box["top"]) + 2:round(box["bottom"]) - 2,
+                            round(box["left"]) + 2:round(box["right"]) - 2].reshape(-1, 3)
+            colours, counts = np.unique(region, axis=0, return_counts=True)
+            contrast = float(abs(region - colours[counts.argmax()]).max()) if len(region) else 0.0
+            if contrast < 0.4:
+                faint[t["text"]] = round(contrast, 3)
+        return faint
+
+    faint = faint_texts(page["shot"])
+    if faint and all(v == 0.0 for v in faint.values()):
+        # Texts with no ink at all, while the rest is painted: on a machine loaded with
+        # other runs Chromium has handed over a screenshot before painting every tile
+        # (seen once beside two engine runs). A text that really is illegible is
+        # illegible in a second screenshot too.
+        faint = faint_texts(page["shoot_again"]("shot-again"))
     assert faint == {}
