@@ -33,7 +33,7 @@ import numpy as np
 import pandas as pd
 
 from . import fits
-from .inputs import ANGLE, RATIO, read_csv_columns, read_cycles, run_dir
+from .inputs import read_csv_columns, read_cycles, run_dir
 
 #: The checks this module evaluates (their definitions: trends.CHECKS).
 CHECK_IDS = ("stage_heating_direction", "stage_cooling_direction", "still_zone", "toroidal_cell",
@@ -416,9 +416,8 @@ def _papers_point(a, value: float, trends) -> bool:
     """Whether the point is the one Fig. 5 is stated for (theta_c = 0 deg and
     alpha_c/alpha_p = 10, the paper's text): the swept value and the fixed one (a study
     without the fixed parameter's column runs at the paper's value, trends.study_runs)."""
-    x_ref, other, o_ref = ((trends.PAPER_ANGLE, RATIO, trends.PAPER_RATIO) if a.kind == "angle"
-                           else (trends.PAPER_RATIO, ANGLE, trends.PAPER_ANGLE))
-    if not np.isclose(value, x_ref):
+    other, o_ref, _ = trends.fixed_parameter(a.kind)
+    if not np.isclose(value, trends.PAPER_VALUE[a.kind]):
         return False
     fixed = a.data[other].dropna().unique() if other in a.data.columns else []
     return all(np.isclose(float(v), o_ref) for v in fixed)

@@ -35,7 +35,7 @@ from common.figures import save_figure  # noqa: E402
 from .inputs import (displacement_files, end_of_cycle_volumes, first_realizations,  # noqa: E402
                      read_cycles, read_displacement, read_timeseries, run_dir)
 from .output import slug  # noqa: E402
-from .trends import PAPER_ANGLE, PAPER_RATIO, TIER_SCALE  # noqa: E402
+from .trends import PAPER_VALUE, TIER_SCALE  # noqa: E402
 
 MAX_LINE_POINTS = 20000
 PAPER_FIGURE = {("angle", "pressure"): "Fig. 3a", ("ratio", "pressure"): "Fig. 3c",
@@ -259,7 +259,7 @@ def displacement_fields(a, out_dir: Path):
     runs = _first_runs(a)
     if not runs:
         return [], []
-    reference = PAPER_ANGLE if a.kind == "angle" else PAPER_RATIO
+    reference = PAPER_VALUE[a.kind]
     value, run, folder = min(runs, key=lambda item: abs(item[0] - reference))
     files = displacement_files(folder) if folder else []
     frames = [(first, last, read_displacement(path)) for first, last, path in files]
@@ -347,7 +347,7 @@ def stage_fields_figure(a, out_dir: Path):
     runs = _first_runs(a)
     if not runs:
         return [], []
-    reference = PAPER_ANGLE if a.kind == "angle" else PAPER_RATIO
+    reference = PAPER_VALUE[a.kind]
     value, run, folder = min(runs, key=lambda item: abs(item[0] - reference))
     try:
         stage = read_stage_fields(folder)

@@ -63,6 +63,9 @@ TIER_SCALE = {
 #: "6 deg halves the peak pressure" statement.
 PAPER_RATIO = 10.0
 PAPER_ANGLE = 0.0
+#: The paper's value of each swept parameter, and what a study along one holds fixed:
+#: (column, the paper's value, label) of the other parameter.
+PAPER_VALUE = {"angle": PAPER_ANGLE, "ratio": PAPER_RATIO}
 HALVING_ANGLES = (0.0, 6.0)
 
 
@@ -548,11 +551,15 @@ class Analysis:
         return f"{self.x_label}={value:g}" + (f" {unit}" if unit else "")
 
 
+def fixed_parameter(kind: str) -> tuple[str, float, str]:
+    """The parameter a study along `kind` holds at the paper's value: (column, value, label)."""
+    return (RATIO, PAPER_RATIO, "alpha_c/alpha_p") if kind == "angle" else (ANGLE, PAPER_ANGLE, "theta_c")
+
+
 def study_runs(sweep: Sweep, kind: str, notes: list[str]) -> pd.DataFrame:
     """The completed runs along `kind`; a grid is cut where the paper fixed the other."""
     data = sweep.completed
-    other, reference, label = ((RATIO, PAPER_RATIO, "alpha_c/alpha_p") if kind == "angle"
-                               else (ANGLE, PAPER_ANGLE, "theta_c"))
+    other, reference, label = fixed_parameter(kind)
     if other in data.columns:
         values = data[other].dropna().unique()
         if len(values) > 1:

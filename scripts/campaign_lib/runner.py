@@ -187,9 +187,7 @@ class Runner:
     def _stored_meanwhile(self, state: RunState) -> bool:
         """A current result of the run in the results folder now, though there was none when
         the queue was made: two invocations share the plan, and the other one finished it
-        (its lock is gone by then)."""
-        if state.done:
-            return False
+        (its lock is gone by then). The queue holds no run that was current then."""
         stored = store.read(self.results, state.run)
         return stored is not None and store.judge(stored, self.plan.scene_for(state.run), self.engine.record(),
                                                   self.golden_check).current
