@@ -4,6 +4,7 @@ stop before any work with the file and field named."""
 
 import json
 import os
+import shutil
 import signal
 import subprocess
 import sys
@@ -247,3 +248,38 @@ def test_a_run_gets_one_sigterm_however_it_is_stopped(tmp_path):
     worker.join(timeout=30)
     assert result["rc"] == tool.STOPPED
     assert count.read_text() == "1"
+
+
+def test_report_compares_the_completed_runs_and_starts_none(done, tmp_path):
+    plan, out = done
+    part = tmp_path / "out"
+    shutil.copytree(out, part)
+    for f in ("comparison.json", "comparison.md"):
+        (part / f).unlink()
+    shutil.rmtree(part / "figures")
+    (part / "runs" / "soft-s2" / "run.json").unlink()  # a run not finished yet
+    before = sorted(p.relative_to(part) for p in part.rglob("*"))
+    r = call(plan, "--out", part, "--report", "--ratchet", tmp_path / "no-engine")
+    assert r.returncode == 0, r.stderr
+    res = json.loads((part / "comparison.json").read_text())
+    assert res["complete"] is False
+    assert res["runs"] == ["rigid-s1", "soft-s1", "rigid-s2"]
+    assert res["observables"]["P_max"]["soft"]["n"] == 1
+    assert res["observables"]["P_max"]["rigid"]["n"] == 2
+    assert "**Partial**: 3 of 4 runs completed" in (part / "comparison.md").read_text()
+    # Nothing was run or poured: only the three outputs are new.
+    after = sorted(p.relative_to(part) for p in part.rglob("*"))
+    assert {Path("comparison.json"), Path("comparison.md"), Path("figures/compare_settings.png")} <= set(after)
+    assert all(p.parts[0] in ("comparison.json", "comparison.md", "figures") for p in set(after) - set(before))
+    assert not (part / "runs" / "soft-s2" / "run.json").exists()
+    # The complete plan's report is the plan's own comparison.
+    r = call(plan, "--out", out, "--report")
+    assert r.returncode == 0, r.stderr
+    assert json.loads((out / "comparison.json").read_text())["complete"] is True
+
+
+def test_report_with_no_completed_run_says_so(tmp_path):
+    plan = write_plan(tmp_path)
+    r = call(plan, "--out", tmp_path / "empty", "--report")
+    assert r.returncode == 1
+    assert "no completed run" in r.stderr and str(tmp_path / "empty" / "runs") in r.stderr
