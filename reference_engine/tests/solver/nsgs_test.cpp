@@ -141,6 +141,41 @@ TEST(Nsgs, CompliantSweepCountDoesNotGrowWithDepth) {
   EXPECT_LT(5 * soft40, rigid40);
 }
 
+// Stall guard (docs/method.md): a compliant solve whose plain sweeps stall too is
+// relaxed, halving down to 0.25. Forced here by a patience of one sweep (the plain
+// sweeps on a column rarely halve the residual in one): relaxation slows a contracting
+// solve but keeps its fixed point, and the rigid law is never relaxed.
+TEST(Nsgs, AStalledCompliantSolveIsRelaxedAndKeepsItsAnswer) {
+  const double epsilon = 0.1;
+  auto solve = [&](double eps, int patience, SolveResult& r) {
+    test::Column c(20, 0.04, 0.5);
+    make_compliant(c, eps);
+    SolverBodies b = c.bodies();
+    SolveSettings s = with_compliance(settings(1000000, 1e-12, true), eps);
+    s.stall_sweeps = patience;
+    r = solve_nsgs(c.rows, b, s, c.scratch);
+    return c;
+  };
+  SolveResult calm, stalled;
+  const test::Column ref = solve(epsilon, 100, calm);
+  const test::Column relaxed = solve(epsilon, 1, stalled);
+  ASSERT_TRUE(calm.converged);
+  ASSERT_TRUE(stalled.converged);
+  EXPECT_EQ(calm.relaxation, 1.0);
+  EXPECT_EQ(stalled.relaxation, 0.25);   // relaxed twice, then no further
+  EXPECT_GT(stalled.sweeps, calm.sweeps);  // a quarter of each step: a slower contraction
+  for (std::size_t k = 0; k < ref.rows.size(); ++k) {
+    // The same compliant answer: the tolerance 1e-12 on the sweep's change bounds both
+    // solves' distance to it far below 1e-9 of the largest impulse (n g h = 0.8).
+    EXPECT_NEAR(relaxed.rows[k].lambda[0], ref.rows[k].lambda[0], 1e-9 * 20 * 0.04) << k;
+    EXPECT_NEAR(relaxed.rows[k].lambda[1], 0.0, 1e-12) << k;
+  }
+  SolveResult rigid;
+  (void)solve(0.0, 1, rigid);
+  EXPECT_TRUE(rigid.plain_fallback);
+  EXPECT_EQ(rigid.relaxation, 1.0);  // the rigid law is left to its jam tests
+}
+
 TEST(Nsgs, NoRowsIsConvergedWithNoSweep) {
   test::Column c(3, 0.04, 0.5);
   c.rows.clear();

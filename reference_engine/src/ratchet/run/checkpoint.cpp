@@ -26,6 +26,7 @@ nlohmann::json progress_json(const WorldProgress& p) {
           {"total_iterations", p.totals.total_iterations},
           {"unconverged_steps", p.totals.unconverged_steps},
           {"jammed_steps", p.totals.jammed_steps},
+          {"relaxed_steps", p.totals.relaxed_steps},
           {"phase_seconds", seconds},
           {"phase_calls", calls}};
 }
@@ -40,6 +41,7 @@ WorldProgress progress_from_json(const nlohmann::json& j) {
   p.totals.total_iterations = j.at("total_iterations").get<std::int64_t>();
   p.totals.unconverged_steps = j.at("unconverged_steps").get<std::int64_t>();
   p.totals.jammed_steps = j.at("jammed_steps").get<std::int64_t>();
+  p.totals.relaxed_steps = j.at("relaxed_steps").get<std::int64_t>();
   const auto& seconds = j.at("phase_seconds");
   const auto& calls = j.at("phase_calls");
   if (seconds.size() != p.timers.seconds.size() || calls.size() != p.timers.calls.size())

@@ -182,7 +182,8 @@ nlohmann::json run_metadata(const World& world) {
   j["counters"] = {{"tangential_solves", world.totals().tangential_solves},
                    {"solver_iterations", world.totals().total_iterations},
                    {"unconverged_steps", world.totals().unconverged_steps},
-                   {"jammed_steps", world.totals().jammed_steps}};
+                   {"jammed_steps", world.totals().jammed_steps},
+                   {"relaxed_steps", world.totals().relaxed_steps}};
   return j;
 }
 

@@ -11,8 +11,12 @@ namespace ratchet {
 
 namespace {
 
-constexpr int kStallSweeps = 100;  // sweeps without halving the residual: 5x a normal step's total
 constexpr double kStallProgress = 0.5;  // a new mark: the residual below half the last mark
+// A compliant solve whose plain sweeps stall too is relaxed, halving each time down to
+// this: at eps = 0.01 on the paper bed 0.5 and 0.3 converged a cycling step in 226-277
+// sweeps where plain sweeps reached the cap of 20 000, and 0.85 did not (docs/method.md,
+// Stall guard).
+constexpr double kMinRelaxation = 0.25;
 constexpr std::int8_t kSpringLaw = 1, kCapLaw = 2;  // SolverRow::law_taken, law_kept
 // The rigid law's bound on Anderson's step, in sweeps' worth (AndersonMixer): a
 // contraction at rate q asks for about 1 / (1 - q), 100 at q = 0.99; a jam's growth is
@@ -48,9 +52,12 @@ struct PutOff {
 // The end of a row's solve: its change applied at once, the impulse before and after
 // recorded into x and g (3 each, Record: for the Anderson acceleration, while the row is
 // in cache), |d lambda|^2 and |lambda|^2 added to d2 and l2.
+// With relax below 1 (a stalled compliant solve), the row moves only that part of the
+// way: a convex combination of two impulses in the cone stays in it.
 template <bool Record>
-[[gnu::always_inline]] inline void finish_row(SolverRow& c, const Vec3& lambda_new, const BodyArrays& B,
-                                              bool rotation, double& d2, double& l2, double* x, double* g) {
+[[gnu::always_inline]] inline void finish_row(SolverRow& c, Vec3 lambda_new, const BodyArrays& B, bool rotation,
+                                              double relax, double& d2, double& l2, double* x, double* g) {
+  if (relax != 1.0) lambda_new = c.lambda + relax * (lambda_new - c.lambda);
   const Vec3 d = lambda_new - c.lambda;
   if (d.squaredNorm() > 0.0) apply_local_impulse(c, d, B, rotation);
   if constexpr (Record) {
@@ -67,8 +74,8 @@ template <bool Record>
 // row is changed, and the caller finishes it (true).
 template <bool Record>
 [[gnu::always_inline]] inline bool solve_row(SolverRow& c, const BodyArrays& B, bool friction, bool rotation,
-                                             double compliance, double& d2, double& l2, double* x, double* g,
-                                             PutOff* put_off = nullptr) {
+                                             double compliance, double relax, double& d2, double& l2, double* x,
+                                             double* g, PutOff* put_off = nullptr) {
   // A row with no impulse whose gap stays open keeps none, with the bits of the full
   // solve below (w = u - W 0 + b, and every local law gives 0 for w_n >= 0; d and the
   // sums add exact zeros): its normal velocity decides, not the whole local velocity.
@@ -119,7 +126,7 @@ template <bool Record>
     }
     lambda_new = Vec3(l_n, 0.0, 0.0);
   }
-  finish_row<Record>(c, lambda_new, B, rotation, d2, l2, x, g);
+  finish_row<Record>(c, lambda_new, B, rotation, relax, d2, l2, x, g);
   return false;
 }
 
@@ -135,6 +142,7 @@ struct SlidePairing {
   const BodyArrays& B;
   bool rotation;
   double compliance;
+  double relax;
   double* gs;
   double* x;
   double* g;
@@ -142,7 +150,7 @@ struct SlidePairing {
   bool holding = false;
 
   [[gnu::always_inline]] void finish(const PutOff& p, const Vec3& lambda) {
-    finish_row<Record>(rows[p.row], lambda, B, rotation, gs[2 * p.group], gs[2 * p.group + 1],
+    finish_row<Record>(rows[p.row], lambda, B, rotation, relax, gs[2 * p.group], gs[2 * p.group + 1],
                        Record ? x + 3 * p.row : x, Record ? g + 3 * p.row : g);
   }
   Vec3 cold(const PutOff& p) { return detail::slide_cold(p.block, p.w, rows[p.row].mu, p.stick, p.lt).lambda; }
@@ -169,7 +177,7 @@ struct SlidePairing {
   void row(int k, int grp, bool friction) {
     if (holding && held.group == grp) solve_held();  // it comes first in its group
     PutOff& slot = holding ? next : held;
-    if (!solve_row<Record>(rows[k], B, friction, rotation, compliance, gs[2 * grp], gs[2 * grp + 1],
+    if (!solve_row<Record>(rows[k], B, friction, rotation, compliance, relax, gs[2 * grp], gs[2 * grp + 1],
                            Record ? x + 3 * k : x, Record ? g + 3 * k : g, &slot))
       return;
     slot.row = k;
@@ -185,12 +193,12 @@ struct SlidePairing {
 // order, the same sums for any thread count. Without a colouring, one group of all rows.
 template <bool Record>
 void sweep(std::vector<SolverRow>& cs, SolverBodies& bodies, const RowColouring* colouring, int parallel_min_rows,
-           bool friction, bool rotation, double compliance, double& d2, double& l2, std::vector<double>& sums,
-           double* x = nullptr, double* g = nullptr) {
+           bool friction, bool rotation, double compliance, double relax, double& d2, double& l2,
+           std::vector<double>& sums, double* x = nullptr, double* g = nullptr) {
   const BodyArrays B = arrays_of(bodies);
   if (colouring == nullptr) {
     for (std::size_t k = 0; k < cs.size(); ++k)
-      solve_row<Record>(cs[k], B, friction, rotation, compliance, d2, l2, Record ? x + 3 * k : x,
+      solve_row<Record>(cs[k], B, friction, rotation, compliance, relax, d2, l2, Record ? x + 3 * k : x,
                         Record ? g + 3 * k : g);
     return;
   }
@@ -203,7 +211,7 @@ void sweep(std::vector<SolverRow>& cs, SolverBodies& bodies, const RowColouring*
   const int* cb = col.colour_begin.data();
 #pragma omp parallel if (static_cast<int>(cs.size()) > parallel_min_rows)
   {
-    SlidePairing<Record> pairing{rows, B, rotation, compliance, gs, x, g, {}, {}};
+    SlidePairing<Record> pairing{rows, B, rotation, compliance, relax, gs, x, g, {}, {}};
     for (int c = 0; c < nc; ++c) {
 #pragma omp for schedule(static) nowait
       for (int grp = cb[c]; grp < cb[c + 1]; ++grp) {
@@ -295,21 +303,24 @@ SolveResult solve_nsgs(std::vector<SolverRow>& cs, SolverBodies& B, const SolveS
   std::int64_t tangential = 0;
   AndersonMixer mixer(s.anderson, set.anderson_depth, set.parallel_min_rows, set.rigid ? kRigidStepBound : 0.0);
   bool accelerate = set.anderson_depth > 0;
-  // Stall guard of the acceleration: the residual must halve within kStallSweeps sweeps
-  // of the last halving, or the rest of the solve runs plain sweeps, which contract for
-  // a frictionless compliant problem (W + c I is positive definite) while a projected
+  // Stall guard: the residual must halve within set.stall_sweeps sweeps of the last
+  // halving, or the rest of the solve runs plain sweeps, which contract for a
+  // frictionless compliant problem (W + c I is positive definite) while a projected
   // extrapolation can cycle near the cones' edges (a 400 bed stopped at the 5000 cap
-  // with residual 4e-4). With friction they need not: docs/method.md, Stall guard.
+  // with residual 4e-4). With friction plain sweeps can cycle too: a compliant solve
+  // whose plain sweeps do not halve the residual either is relaxed, more each time it
+  // stalls again (docs/method.md, Stall guard). The rigid law is left to its jam tests.
   double mark = HUGE_VAL;
   int mark_it = 0;
+  double relax = 1.0;
   for (it = 1; it <= set.max_iterations && !cs.empty(); ++it) {
     if (set.by_velocity) { s.v_sweep = B.v; s.w_sweep = B.w; }
     double d2 = 0.0, l2 = 0.0;
     if (accelerate)
-      sweep<true>(cs, B, set.colouring, set.parallel_min_rows, friction, rotation, set.compliance, d2, l2, s.group_sums,
-                  mixer.record_buffer(cs.size(), false), mixer.record_buffer(cs.size(), true));
+      sweep<true>(cs, B, set.colouring, set.parallel_min_rows, friction, rotation, set.compliance, relax, d2, l2,
+                  s.group_sums, mixer.record_buffer(cs.size(), false), mixer.record_buffer(cs.size(), true));
     else
-      sweep<false>(cs, B, set.colouring, set.parallel_min_rows, friction, rotation, set.compliance, d2, l2,
+      sweep<false>(cs, B, set.colouring, set.parallel_min_rows, friction, rotation, set.compliance, relax, d2, l2,
                    s.group_sums);
     if (friction) tangential += static_cast<std::int64_t>(cs.size());
     if (set.by_velocity) {
@@ -328,18 +339,23 @@ SolveResult solve_nsgs(std::vector<SolverRow>& cs, SolverBodies& B, const SolveS
     if (residual < kStallProgress * mark) {
       mark = residual;
       mark_it = it;
-    } else if (it - mark_it >= kStallSweeps && !out.plain_fallback) {
+    } else if (it - mark_it >= set.stall_sweeps && !out.plain_fallback) {
       // Stalled: plain sweeps from here, and every capped row keeps the law it took, so
       // that each row's law is one monotone law and the sweeps contract.
       accelerate = false;
       out.plain_fallback = true;
       for (SolverRow& c : cs) c.law_kept = c.law_taken;
+      mark_it = it;  // the plain sweeps' own patience
+    } else if (it - mark_it >= set.stall_sweeps && set.compliance > 0.0 && relax > kMinRelaxation) {
+      relax *= 0.5;  // the plain sweeps cycle (friction): under-relaxed sweeps damp the cycle
+      mark_it = it;
     }
     if (accelerate) {
       mixer.record_velocities(B.v, B.w);
       if (mixer.plan(cs)) write_extrapolated(cs, mixer, B, rotation, set.colouring, set.parallel_min_rows);
     }
   }
+  out.relaxation = relax;
   out.sweeps = cs.empty() ? 0 : std::min(it, set.max_iterations);
   out.converged = cs.empty() || residual < tol;
   const double normal_end = normal_impulse_sum(cs);

@@ -136,6 +136,7 @@ struct SolveSettings {
   bool rigid = false;        // the rigid law (solver.compliance 0): an accelerated solve also reports persistent_growth
   int parallel_min_rows = kParallelMinRows;
   const RowColouring* colouring = nullptr;  // the rows' colouring (parallel sweep), or null: one thread in row order
+  int stall_sweeps = 100;    // the stall guard's patience: sweeps without halving the residual (solve_nsgs)
 };
 
 struct SolveResult {
@@ -147,6 +148,7 @@ struct SolveResult {
   std::int64_t tangential_solves = 0;  // local solves with friction in this call
   int restarts = 0;                    // Anderson history restarts
   bool plain_fallback = false;         // the acceleration stalled and plain sweeps finished
+  double relaxation = 1.0;             // the last sweeps' relaxation: below 1 when plain sweeps stalled too
 };
 
 // What a solve keeps between sweeps: the velocities before the contact impulses (set

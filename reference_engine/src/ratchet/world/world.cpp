@@ -175,6 +175,7 @@ void World::solve() {
   stats_.normal_growth = jammed || r.normal_growth;
   stats_.residual = jammed ? first_residual : r.residual;  // the problem posed, not the one yielded
   if (!stats_.converged) ++totals_.unconverged_steps;
+  if (r.relaxation < 1.0) ++totals_.relaxed_steps;
   totals_.tangential_solves += tangential;
   totals_.total_iterations += sweeps;
   for (std::size_t k = 0; k < scratch_.contacts.size(); ++k) scratch_.contacts[k].lambda = scratch_.rows[k].lambda;

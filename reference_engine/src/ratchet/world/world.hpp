@@ -46,6 +46,7 @@ struct RunTotals {
   std::int64_t total_iterations = 0;   // Gauss-Seidel sweeps
   std::int64_t unconverged_steps = 0;  // steps that hit solver.max_iterations
   std::int64_t jammed_steps = 0;       // rigid steps solved again without the imposed motion (World::yield_to_jam)
+  std::int64_t relaxed_steps = 0;      // compliant steps whose plain sweeps stalled and were relaxed (solve_nsgs)
 };
 
 // What a run has done to a world besides its State: the settle stage's end (which moves
