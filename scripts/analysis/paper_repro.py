@@ -15,6 +15,7 @@ paper_repro.html.j2, which scripts/report.py and scripts/paper-repro render.
 from __future__ import annotations
 
 import datetime as _dt
+import json
 import math
 import shutil
 import statistics
@@ -36,6 +37,11 @@ from .inputs import ALPHA_C, ANGLE, InputError, load_sweep
 
 DEFAULT_PLAN = REPO_ROOT / "validation" / "campaigns" / "paper.json"
 DEFAULT_RESULTS = REPO_ROOT / "validation" / "results" / "paper"
+# The compliance ladders on the paper's bed (scripts/compare-settings comparisons, kept in
+# validation/results/accuracy/; docs/accuracy-cost.md, "The compliance at the paper's
+# depth"): (cone angle, file). A missing file is left out.
+LAW_LADDERS = ((0.0, REPO_ROOT / "validation" / "results" / "accuracy" / "law_ladder_paper.json"),
+               (6.0, REPO_ROOT / "validation" / "results" / "accuracy" / "law_ladder_paper6.json"))
 TITLE = "The paper, figure by figure"
 #: The kind of study of a plan part, by the scene path it sweeps.
 KIND_OF_SWEEP = {ANGLE: "angle", ALPHA_C: "ratio"}
@@ -429,6 +435,62 @@ def _table1(plan: Plan) -> tuple[list, str, str]:
     return rows, f"MATCHES: every value of the plan's {len(plan.runs)} runs", "pass"
 
 
+def _law(plan: Plan) -> str:
+    """The contact law of the plan's runs (solver.compliance; absent: the engine's rigid
+    default, docs/scene-format.md), against the paper's rigid law."""
+    values = sorted({float(_value(plan.scene_for(r), "solver.compliance") or 0.0) for r in plan.runs})
+    if values == [0.0]:
+        return "rigid (`solver.compliance` 0), as the paper's"
+    shown = ", ".join(f"{v:g}" for v in values)
+    return (f"compliant, ε = {shown} (`solver.compliance`); the paper's law is rigid. On the paper's bed "
+            "the law moves the peak pressure and the halving ratio (the ladders below): the verdicts are "
+            "those of this law")
+
+
+def _ladders(ladders) -> tuple[list, dict]:
+    """Per compliance of the ladders: P_max (mean ± SE, runs) at each angle, and the ratio
+    of the 6° cone's to the cylinder's where both were run (SE by propagation of the two
+    SEs). Rows in the order of decreasing compliance."""
+    table = {}
+    complete = {}
+    for angle, path in ladders:
+        path = Path(path)
+        if not path.is_file():
+            continue
+        data = json.loads(path.read_text())
+        complete[angle] = data.get("complete", True)
+        for setting, e in data["observables"]["P_max"].items():
+            eps = _ladder_compliance(setting)
+            if eps is None or e.get("mean") is None:
+                continue
+            table.setdefault(eps, {})[angle] = (e["mean"], e.get("se"), e["n"])
+    rows = []
+    for eps in sorted(table, reverse=True):
+        cells = table[eps]
+        row = {"eps": f"{eps:g}", "angles": {}, "ratio": "—"}
+        for angle, (mean, se, n) in cells.items():
+            row["angles"][angle] = f"{mean:.1f}" + (f" ± {se:.1f}" if se is not None else "") + f" ({n})"
+        if 0.0 in cells and 6.0 in cells:
+            (m0, s0, _), (m6, s6, _) = cells[0.0], cells[6.0]
+            r = m6 / m0
+            if s0 is not None and s6 is not None:
+                row["ratio"] = f"{r:.2f} ± {r * math.hypot(s0 / m0, s6 / m6):.2f}"
+            else:
+                row["ratio"] = f"{r:.2f}"
+        rows.append(row)
+    return rows, {a: ("complete" if c else "partial") for a, c in complete.items()}
+
+
+def _ladder_compliance(setting: str):
+    """The compliance a ladder's setting names: 'e0.01' -> 0.01, else None."""
+    if setting.startswith("e"):
+        try:
+            return float(setting[1:])
+        except ValueError:
+            return None
+    return None
+
+
 def _figures(analyses: dict, runs: Runs, statement: Statement, out: Path,
              drawn: dict) -> tuple[list, list]:
     paths, notes = [], []
@@ -459,7 +521,7 @@ def _figures(analyses: dict, runs: Runs, statement: Statement, out: Path,
 
 
 def build(plan_path: Path = DEFAULT_PLAN, results: Path = DEFAULT_RESULTS, out: Path | None = None,
-          reduced=()) -> dict:
+          reduced=(), ladders=LAW_LADDERS) -> dict:
     """The section's values: per statement the quote, checks, verdict, scale, what is
     missing, the reduced-scale rows and its figures (paths under OUT/figures/). `out`
     holds the assembled sweeps and the figures (rebuilt each time); `reduced` is a list
@@ -511,6 +573,7 @@ def build(plan_path: Path = DEFAULT_PLAN, results: Path = DEFAULT_RESULTS, out: 
             "figures": paths, "notes": notes})
     planned = len(plan.runs)
     todo = planned - len(runs.used)
+    ladder_rows, ladder_state = _ladders(ladders)
     engines = sorted({str((s.provenance.get("engine") or {}).get("engine_commit"))[:10]
                       for s in runs.used.values()})
     return {
@@ -524,6 +587,8 @@ def build(plan_path: Path = DEFAULT_PLAN, results: Path = DEFAULT_RESULTS, out: 
         "todo": (f"{todo} run(s), about {_hours(todo * runs.run_seconds)} at {runs.cost_source}"
                  if todo else "nothing: every planned run is stored"),
         "engines": engines, "refused": runs.refused, "statements": statements,
+        "law": _law(plan), "ladders": ladder_rows,
+        "ladder_state": ", ".join(f"{a:g}° {st}" for a, st in sorted(ladder_state.items())),
     }
 
 

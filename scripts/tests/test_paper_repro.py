@@ -274,3 +274,31 @@ def test_no_file_of_the_repository_points_outside_it():
         text = path.read_bytes().decode("utf-8", errors="ignore")
         offenders += [f"{name}: {o}" for o in outside if o in text]
     assert offenders == []
+
+
+def test_the_contact_law_and_the_compliance_ladders_are_shown(tmp_path):
+    def ladder(name, complete, p_max):
+        path = tmp_path / name
+        path.write_text(json.dumps({"complete": complete, "observables": {"P_max": {
+            k: {"mean": m, "se": se, "n": n} for k, (m, se, n) in p_max.items()}}}))
+        return path
+    zero = ladder("l0.json", False, {"e0.01": (100.0, 10.0, 2), "e0.1": (50.0, None, 1)})
+    six = ladder("l6.json", True, {"e0.01": (40.0, 2.0, 3), "e0.1": (28.0, 0.4, 3)})
+    data = paper_repro.build(results=tmp_path / "none", out=tmp_path / "out",
+                             ladders=[(0.0, zero), (6.0, six), (8.0, tmp_path / "absent.json")])
+    # The plan's scene is the paper tier's compliant law, not the paper's rigid one.
+    assert data["law"].startswith("compliant, ε = 0.1 (")
+    assert "the paper's law is rigid" in data["law"]
+    assert data["ladder_state"] == "0° partial, 6° complete"  # the absent file is left out
+    rows = {r["eps"]: r for r in data["ladders"]}
+    assert list(rows) == ["0.1", "0.01"]  # decreasing compliance
+    # 0.40 ± 0.40 hypot(0.1, 0.05) = 0.045; no SE where a point has one bed.
+    assert rows["0.01"]["ratio"] == "0.40 ± 0.04"
+    assert rows["0.1"]["ratio"] == "0.56"
+    assert rows["0.01"]["angles"] == {0.0: "100.0 ± 10.0 (2)", 6.0: "40.0 ± 2.0 (3)"}
+    text = markdown(data)
+    assert "- Contact law: compliant, ε = 0.1" in text
+    assert "| 0.01 | 100.0 ± 10.0 (2) | 40.0 ± 2.0 (3) | 0.40 ± 0.04 |" in text
+    # Without ladders the table is left out.
+    assert "| ε | 0° | 6° |" not in markdown(
+        paper_repro.build(results=tmp_path / "none", out=tmp_path / "out2", ladders=[]))
