@@ -457,13 +457,17 @@ def _ladders(ladders) -> tuple[list, dict]:
         path = Path(path)
         if not path.is_file():
             continue
-        data = json.loads(path.read_text())
-        complete[angle] = data.get("complete", True)
-        for setting, e in data["observables"]["P_max"].items():
-            eps = _ladder_compliance(setting)
-            if eps is None or e.get("mean") is None:
-                continue
-            table.setdefault(eps, {})[angle] = (e["mean"], e.get("se"), e["n"])
+        try:
+            data = json.loads(path.read_text())
+            complete[angle] = data.get("complete", True)
+            for setting, e in data["observables"]["P_max"].items():
+                eps = _ladder_compliance(setting)
+                if eps is None or e.get("mean") is None:
+                    continue
+                table.setdefault(eps, {})[angle] = (float(e["mean"]), e.get("se"), int(e["n"]))
+        except (ValueError, KeyError, TypeError, AttributeError) as problem:
+            raise PaperReproError(f"{path}: not a compare-settings comparison.json with observables.P_max "
+                                  f"per setting ({type(problem).__name__}: {problem})") from None
     rows = []
     for eps in sorted(table, reverse=True):
         cells = table[eps]

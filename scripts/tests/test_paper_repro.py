@@ -302,3 +302,8 @@ def test_the_contact_law_and_the_compliance_ladders_are_shown(tmp_path):
     # Without ladders the table is left out.
     assert "| ε | 0° | 6° |" not in markdown(
         paper_repro.build(results=tmp_path / "none", out=tmp_path / "out2", ladders=[]))
+    # A damaged comparison is an error naming the file, not a traceback.
+    bad = tmp_path / "bad.json"
+    bad.write_text('{"observables": {}}')
+    with pytest.raises(paper_repro.PaperReproError, match=r"bad\.json: not a compare-settings comparison"):
+        paper_repro.build(results=tmp_path / "none", out=tmp_path / "out3", ladders=[(0.0, bad)])
