@@ -440,10 +440,10 @@ def _law(plan: Plan) -> str:
     default, docs/scene-format.md), against the paper's rigid law."""
     values = sorted({float(_value(plan.scene_for(r), "solver.compliance") or 0.0) for r in plan.runs})
     if values == [0.0]:
-        return "rigid (`solver.compliance` 0), as the paper's"
+        return "rigid (solver.compliance 0), as the paper's"
     shown = ", ".join(f"{v:g}" for v in values)
-    return (f"compliant, ε = {shown} (`solver.compliance`); the paper's law is rigid. On the paper's bed "
-            "the law moves the peak pressure and the halving ratio (the ladders below): the verdicts are "
+    return (f"compliant, ε = {shown} (solver.compliance); the paper's law is rigid. On the paper's bed "
+            "the law moves the peak pressure and the halving ratio (the ladders below the table): the verdicts are "
             "those of this law")
 
 
