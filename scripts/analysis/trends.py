@@ -63,8 +63,8 @@ TIER_SCALE = {
 #: "6 deg halves the peak pressure" statement.
 PAPER_RATIO = 10.0
 PAPER_ANGLE = 0.0
-#: The paper's value of each swept parameter, and what a study along one holds fixed:
-#: (column, the paper's value, label) of the other parameter.
+#: The paper's value of each swept parameter (what a study along one holds fixed:
+#: fixed_parameter).
 PAPER_VALUE = {"angle": PAPER_ANGLE, "ratio": PAPER_RATIO}
 HALVING_ANGLES = (0.0, 6.0)
 

@@ -168,6 +168,7 @@ TEST(Nsgs, AStalledCompliantSolveIsRelaxedAndKeepsItsAnswer) {
     // The same compliant answer: the tolerance 1e-12 on the sweep's change bounds both
     // solves' distance to it far below 1e-9 of the largest impulse (n g h = 0.8).
     EXPECT_NEAR(relaxed.rows[k].lambda[0], ref.rows[k].lambda[0], 1e-9 * 20 * 0.04) << k;
+    // No tangential load at all: round-off of impulses of order 0.8.
     EXPECT_NEAR(relaxed.rows[k].lambda[1], 0.0, 1e-12) << k;
   }
   SolveResult rigid;
