@@ -41,6 +41,17 @@ def write_plan(folder: Path, **fields) -> Path:
     return path
 
 
+def load_tool():
+    """The tool as a module, for its runner's functions."""
+    import importlib.machinery
+    import importlib.util
+    loader = importlib.machinery.SourceFileLoader("compare_settings", str(TOOL))
+    spec = importlib.util.spec_from_loader("compare_settings", loader)
+    tool = importlib.util.module_from_spec(spec)
+    loader.exec_module(tool)
+    return tool
+
+
 def call(*args) -> subprocess.CompletedProcess:
     return subprocess.run(["/usr/bin/python3", str(TOOL), *map(str, args)], capture_output=True, text=True)
 
@@ -219,13 +230,8 @@ def test_a_run_gets_one_sigterm_however_it_is_stopped(tmp_path):
     so a run whose step outlasts the tool's poll (a rigid step of the paper bed takes
     minutes) must not get the signal's forward and the deadline's SIGTERM both. A stand-in
     process counts the SIGTERMs it gets over 3 s."""
-    import importlib.machinery
-    import importlib.util
     import threading
-    loader = importlib.machinery.SourceFileLoader("compare_settings", str(TOOL))
-    spec = importlib.util.spec_from_loader("compare_settings", loader)
-    tool = importlib.util.module_from_spec(spec)
-    loader.exec_module(tool)
+    tool = load_tool()
     count = tmp_path / "count"
     child = ("import signal, time, pathlib\n"
              "n = [0]\n"
@@ -248,6 +254,30 @@ def test_a_run_gets_one_sigterm_however_it_is_stopped(tmp_path):
     worker.join(timeout=30)
     assert result["rc"] == tool.STOPPED
     assert count.read_text() == "1"
+
+
+def test_a_program_without_a_handler_stopped_by_the_tool_is_stopped_not_failed(tmp_path):
+    """`ratchet pack` has no SIGTERM handler: stopped while it pours, it dies of the signal
+    (return code -15). That is the tool's own stop, not a failure; a process killed by a
+    SIGTERM from elsewhere still is one."""
+    tool = load_tool()
+    stop = tool.Stopper(None)
+    result = {}
+    import threading
+    worker = threading.Thread(target=lambda: result.update(
+        rc=tool.execute(["/usr/bin/python3", "-c", "import time; time.sleep(30)"], tmp_path / "log", stop)))
+    worker.start()
+    deadline = time.monotonic() + 30
+    while not stop.running and time.monotonic() < deadline:
+        time.sleep(0.01)
+    stop.on_signal()
+    worker.join(timeout=30)
+    assert result["rc"] == tool.STOPPED
+
+    other = tool.Stopper(None)
+    rc = tool.execute(["/usr/bin/python3", "-c", "import os, signal; os.kill(os.getpid(), signal.SIGTERM)"],
+                      tmp_path / "log2", other)
+    assert rc == -signal.SIGTERM
 
 
 def test_report_compares_the_completed_runs_and_starts_none(done, tmp_path):
