@@ -360,6 +360,21 @@ TEST(Scene, SolverCriterionIsImpulseOrVelocity) {
   EXPECT_THAT(error_of(j), HasSubstr("scene.json: field 'solver.method': expected \"nsgs\", got \"pgs\""));
 }
 
+TEST(Scene, SolverTangentialLawIsCreepOrSpringAndTheSpringNeedsTheWarmStart) {
+  json j = minimal_scene();
+  const SceneDef plain = build_scene(j, "s.json");
+  EXPECT_EQ(plain.solver.tangential_law, TangentialLaw::Creep);  // the default
+  EXPECT_EQ(plain.effective.at("solver").at("tangential_law"), "creep");
+  j["solver"] = {{"tangential_law", "spring"}, {"compliance", 0.1}};
+  EXPECT_EQ(build_scene(j, "s.json").solver.tangential_law, TangentialLaw::Spring);
+  j["solver"]["tangential_law"] = "elastic";
+  EXPECT_THAT(error_of(j),
+              HasSubstr("scene.json: field 'solver.tangential_law': expected \"creep\" or \"spring\", got \"elastic\""));
+  j["solver"] = {{"tangential_law", "spring"}, {"warm_start", false}};
+  EXPECT_THAT(error_of(j), AllOf(HasSubstr("scene.json: field 'solver.tangential_law'"),
+                                 HasSubstr("while solver.warm_start is false")));
+}
+
 TEST(Scene, DegeneratePolyhedronIsRefusedWithItsField) {
   json j = minimal_scene();
   j["particles"]["bodies"] = json::array(

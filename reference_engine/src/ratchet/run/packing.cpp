@@ -61,9 +61,11 @@ void differences(const json& a, const json& b, const std::string& path, std::vec
 // settings are compared on the same bed (the study of what accuracy costs; docs/cli.md).
 // A compliance moves a rested bed's overlaps by less than the contact margin
 // (docs/method.md s. 5); p_gap only sets how fast the overlaps left are closed; manifold
-// reuse moves a gap by less than its bound (contact/manifold_reuse.hpp).
-constexpr const char* kSolveKnobs[] = {"method",         "tolerance",  "criterion", "max_iterations", "acceleration",
-                                      "anderson_depth", "compliance", "p_gap",     "manifold_reuse"};
+// reuse moves a gap by less than its bound (contact/manifold_reuse.hpp); the tangential
+// law only says how a loaded compliant contact moves.
+constexpr const char* kSolveKnobs[] = {"method",         "tolerance",  "criterion",      "max_iterations",
+                                      "acceleration",   "compliance", "tangential_law", "anderson_depth",
+                                      "p_gap",          "manifold_reuse"};
 
 json without_solve_knobs(json scene) {
   if (scene.is_object() && scene.contains("solver") && scene["solver"].is_object())

@@ -41,6 +41,12 @@ enum class Acceleration {
   Anderson,  // Anderson acceleration of the sweeps (solver/anderson.hpp)
 };
 
+// The tangential part of the compliant law (solver.tangential_law, docs/method.md s. 5).
+enum class TangentialLaw {
+  Creep,   // u_t + c lambda_t: a sticking contact slides at c lambda_t while loaded
+  Spring,  // u_t + c (lambda_t - lambda_t kept): it moves by c h per change of impulse, elastic
+};
+
 struct SolverSettings {
   SolverMethod method = SolverMethod::Nsgs;
   double tolerance = 1e-4;  // on the criterion's relative change between sweeps (docs/method.md s. 7)
@@ -51,6 +57,9 @@ struct SolverSettings {
   double theta = 1.0;       // Moreau-Jean theta in [0.5, 1]; 1 = fully implicit
   double p_gap = 0.1;       // fraction of an overlap closed per step, in (0, 1]
   double compliance = 0.0;  // epsilon >= 0: contact compliance c = epsilon W_nn; 0 = rigid (docs/method.md s. 5)
+  // What a compliant sticking contact does under a steady tangential load: creep at c lambda_t
+  // (the law on u + c lambda) or hold it as a spring (on u + c (lambda - lambda_kept)).
+  TangentialLaw tangential_law = TangentialLaw::Creep;
   bool warm_start = true;
   double contact_margin = 0.05;  // contacts closer than this (length units) are detected
   double manifold_reuse = 0.0;   // a polyhedron pair's manifold is kept while it moves less (length; 0: rebuilt every step; contact/manifold_reuse.hpp)

@@ -22,7 +22,7 @@ void read_effects(const Reader& r, const json& j, Effects& e) {
 void read_solver(const Reader& r, const json& j, SolverSettings& s) {
   const std::string p = "solver";
   r.object(j, p, {"tolerance", "criterion", "max_iterations", "theta", "p_gap", "warm_start", "contact_margin", "threads",
-                  "acceleration", "anderson_depth", "compliance", "manifold_reuse", "method"});
+                  "acceleration", "anderson_depth", "compliance", "tangential_law", "manifold_reuse", "method"});
   if (j.contains("method")) {
     const json& m = j.at("method");
     if (m == "nsgs") s.method = SolverMethod::Nsgs;
@@ -48,7 +48,18 @@ void read_solver(const Reader& r, const json& j, SolverSettings& s) {
   s.theta = r.number(j, p, "theta", s.theta, 0.5, 1.0, false, false, "a number in [0.5, 1]");
   s.p_gap = r.number(j, p, "p_gap", s.p_gap, 0.0, 1.0, true, false, "a number in (0, 1]");
   s.compliance = r.number(j, p, "compliance", s.compliance, 0.0, 1.0, false, false, "a number in [0, 1]");
+  if (j.contains("tangential_law")) {
+    const json& l = j.at("tangential_law");
+    if (l == "creep") s.tangential_law = TangentialLaw::Creep;
+    else if (l == "spring") s.tangential_law = TangentialLaw::Spring;
+    else r.fail(p + ".tangential_law", "\"creep\" or \"spring\"", &l);
+  }
+  r.fill(p, "tangential_law", s.tangential_law == TangentialLaw::Spring ? "spring" : "creep");
   s.warm_start = r.boolean(j, p, "warm_start", s.warm_start);
+  // The spring's load is the contact's kept impulse, which only the warm start finds.
+  if (s.tangential_law == TangentialLaw::Spring && !s.warm_start)
+    r.fail(p + ".tangential_law", "\"creep\" while solver.warm_start is false (the spring holds the kept impulse)",
+           &j.at("tangential_law"));
   s.contact_margin = r.positive(j, p, "contact_margin", s.contact_margin);
   // Within the margin, a pair that was out of reach cannot come into contact unseen.
   s.manifold_reuse = r.number(j, p, "manifold_reuse", s.manifold_reuse, 0.0, s.contact_margin, false, false,

@@ -137,6 +137,8 @@ void World::build_rows() {
 void World::warm_start(SolverBodies& bodies) {
   if (!scene_.solver.warm_start || state_.impulses.empty()) return;
   StepScratch& s = scratch_;
+  const bool spring = friction_on_ && scene_.solver.compliance > 0.0 &&
+                      scene_.solver.tangential_law == TangentialLaw::Spring;
   find_kept_impulses();
   for (std::size_t k = 0; k < s.contacts.size(); ++k) {
     const int found = s.kept_impulse[static_cast<std::size_t>(s.order[k])];
@@ -147,6 +149,13 @@ void World::warm_start(SolverBodies& bodies) {
                             ? clip_kept_impulse(Vec3(c.geometry.normal.dot(P), c.t1.dot(P), c.t2.dot(P)), c.mu)
                             : Vec3(std::max(0.0, c.geometry.normal.dot(P)), 0.0, 0.0);
     s.rows[k].lambda = lambda;
+    // The spring law: the local law on u + c (lambda - lambda_kept), so a sticking contact
+    // that keeps its load keeps its place (docs/method.md s. 5, Tangential law).
+    if (spring) {
+      const double c_row = row_compliance(s.rows[k], scene_.solver.compliance);
+      s.rows[k].u0[1] -= c_row * lambda[1];
+      s.rows[k].u0[2] -= c_row * lambda[2];
+    }
     apply_local_impulse(s.rows[k], lambda, arrays_of(bodies), rotation_on_);
   }
 }
