@@ -436,15 +436,20 @@ def _table1(plan: Plan) -> tuple[list, str, str]:
 
 
 def _law(plan: Plan) -> str:
-    """The contact law of the plan's runs (solver.compliance; absent: the engine's rigid
-    default, docs/scene-format.md), against the paper's rigid law."""
+    """The contact law of the plan's runs (solver.compliance and solver.tangential_law;
+    absent: the engine's defaults, rigid and creep, docs/scene-format.md), against the
+    paper's rigid law."""
     values = sorted({float(_value(plan.scene_for(r), "solver.compliance") or 0.0) for r in plan.runs})
     if values == [0.0]:
         return "rigid (solver.compliance 0), as the paper's"
     shown = ", ".join(f"{v:g}" for v in values)
-    return (f"compliant, ε = {shown} (solver.compliance); the paper's law is rigid. On the paper's bed "
-            "the law moves the peak pressure and the halving ratio (the ladders below the table): the verdicts are "
-            "those of this law")
+    laws = sorted({str(_value(plan.scene_for(r), "solver.tangential_law") or "creep") for r in plan.runs})
+    tangential = ", ".join(laws)
+    creep = (" (sticking contacts creep at c λ_t, so the peaks also depend on how long a stage lasts: "
+             "docs/accuracy-cost.md, The stage durations at the paper's depth)") if "creep" in laws else ""
+    return (f"compliant, ε = {shown} (solver.compliance), tangential law {tangential}{creep}; the paper's law "
+            "is rigid. On the paper's bed the law moves the peak pressure and the halving ratio (the ladders below "
+            "the table): the verdicts are those of this law")
 
 
 def _ladders(ladders) -> tuple[list, dict]:

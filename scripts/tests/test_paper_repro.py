@@ -276,6 +276,16 @@ def test_no_file_of_the_repository_points_outside_it():
     assert offenders == []
 
 
+def test_the_law_line_names_the_tangential_law_and_the_creep_only_where_it_is():
+    from campaign_lib.plan import load_plan
+    plan = load_plan(paper_repro.DEFAULT_PLAN)
+    assert "tangential law creep (sticking contacts creep" in paper_repro._law(plan)
+    plan.set = {**plan.set, "solver.tangential_law": "spring", "solver.compliance": 0.03}
+    line = paper_repro._law(plan)
+    assert line.startswith("compliant, ε = 0.03 (solver.compliance), tangential law spring;")
+    assert "creep" not in line
+
+
 def test_the_contact_law_and_the_compliance_ladders_are_shown(tmp_path):
     def ladder(name, complete, p_max):
         path = tmp_path / name
@@ -289,6 +299,8 @@ def test_the_contact_law_and_the_compliance_ladders_are_shown(tmp_path):
     # The plan's scene is the paper tier's compliant law, not the paper's rigid one.
     assert data["law"].startswith("compliant, ε = 0.1 (")
     assert "the paper's law is rigid" in data["law"]
+    # No tangential law in the scene: the engine's default, whose creep the line names.
+    assert "tangential law creep (sticking contacts creep" in data["law"]
     assert data["ladder_state"] == "0° partial, 6° complete"  # the absent file is left out
     rows = {r["eps"]: r for r in data["ladders"]}
     assert list(rows) == ["0.1", "0.01"]  # decreasing compliance
