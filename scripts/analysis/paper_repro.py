@@ -439,11 +439,12 @@ def _law(plan: Plan) -> str:
     """The contact law of the plan's runs (solver.compliance and solver.tangential_law;
     absent: the engine's defaults, rigid and creep, docs/scene-format.md), against the
     paper's rigid law."""
-    values = sorted({float(_value(plan.scene_for(r), "solver.compliance") or 0.0) for r in plan.runs})
+    scenes = [plan.scene_for(r) for r in plan.runs]
+    values = sorted({float(_value(scene, "solver.compliance") or 0.0) for scene in scenes})
     if values == [0.0]:
         return "rigid (solver.compliance 0), as the paper's"
     shown = ", ".join(f"{v:g}" for v in values)
-    laws = sorted({str(_value(plan.scene_for(r), "solver.tangential_law") or "creep") for r in plan.runs})
+    laws = sorted({str(_value(scene, "solver.tangential_law") or "creep") for scene in scenes})
     tangential = ", ".join(laws)
     creep = (" (sticking contacts creep at c λ_t, so the peaks also depend on how long a stage lasts: "
              "docs/accuracy-cost.md, The stage durations at the paper's depth)") if "creep" in laws else ""

@@ -5,6 +5,7 @@
 #include <functional>
 #include <initializer_list>
 #include <string>
+#include <utility>
 
 #include <nlohmann/json.hpp>
 
@@ -51,6 +52,27 @@ struct Reader {
                     long long hi) const;
   bool boolean(const json& j, const std::string& path, const std::string& key, bool def) const;
   std::string string(const json& j, const std::string& path, const std::string& key, const std::string& def) const;
+  // One of a set of names (each a JSON string and the value it stands for); def when absent.
+  template <class E>
+  E choice(const json& j, const std::string& path, const std::string& key, E def,
+           std::initializer_list<std::pair<const char*, E>> names) const {
+    std::string expected;  // "a" or "b"; "a", "b" or "c"
+    const char* def_name = nullptr;
+    std::size_t i = 0;
+    for (const auto& [name, value] : names) {
+      expected += (i == 0 ? "" : i + 1 == names.size() ? " or " : ", ") + ("\"" + std::string(name) + "\"");
+      if (value == def) def_name = name;
+      ++i;
+    }
+    if (!j.contains(key)) {
+      fill(path, key, def_name);
+      return def;
+    }
+    const json& v = j.at(key);
+    for (const auto& [name, value] : names)
+      if (v == name) return value;
+    fail(join(path, key), expected, &v);
+  }
   Vec3 vec3(const json& v, const std::string& f) const;
   Vec3 vec3(const json& j, const std::string& path, const std::string& key, const Vec3& def) const;
   const json& required(const json& j, const std::string& path, const std::string& key,

@@ -29,32 +29,17 @@ void read_solver(const Reader& r, const json& j, SolverSettings& s) {
     else r.fail(p + ".method", "\"nsgs\"", &m);
   }
   s.tolerance = r.positive(j, p, "tolerance", s.tolerance);
-  if (j.contains("criterion")) {
-    const json& c = j.at("criterion");
-    if (c == "impulse") s.criterion = Criterion::Impulse;
-    else if (c == "velocity") s.criterion = Criterion::Velocity;
-    else r.fail(p + ".criterion", "\"impulse\" or \"velocity\"", &c);
-  }
-  r.fill(p, "criterion", s.criterion == Criterion::Velocity ? "velocity" : "impulse");
+  s.criterion = r.choice(j, p, "criterion", s.criterion,
+                         {{"impulse", Criterion::Impulse}, {"velocity", Criterion::Velocity}});
   s.max_iterations = static_cast<int>(r.integer(j, p, "max_iterations", s.max_iterations, 1, 100000000));
-  if (j.contains("acceleration")) {
-    const json& a = j.at("acceleration");
-    if (a == "none") s.acceleration = Acceleration::None;
-    else if (a == "anderson") s.acceleration = Acceleration::Anderson;
-    else r.fail(p + ".acceleration", "\"none\" or \"anderson\"", &a);
-  }
-  r.fill(p, "acceleration", s.acceleration == Acceleration::Anderson ? "anderson" : "none");
+  s.acceleration = r.choice(j, p, "acceleration", s.acceleration,
+                            {{"none", Acceleration::None}, {"anderson", Acceleration::Anderson}});
   s.anderson_depth = static_cast<int>(r.integer(j, p, "anderson_depth", s.anderson_depth, 1, kMaxAndersonDepth));
   s.theta = r.number(j, p, "theta", s.theta, 0.5, 1.0, false, false, "a number in [0.5, 1]");
   s.p_gap = r.number(j, p, "p_gap", s.p_gap, 0.0, 1.0, true, false, "a number in (0, 1]");
   s.compliance = r.number(j, p, "compliance", s.compliance, 0.0, 1.0, false, false, "a number in [0, 1]");
-  if (j.contains("tangential_law")) {
-    const json& l = j.at("tangential_law");
-    if (l == "creep") s.tangential_law = TangentialLaw::Creep;
-    else if (l == "spring") s.tangential_law = TangentialLaw::Spring;
-    else r.fail(p + ".tangential_law", "\"creep\" or \"spring\"", &l);
-  }
-  r.fill(p, "tangential_law", s.tangential_law == TangentialLaw::Spring ? "spring" : "creep");
+  s.tangential_law = r.choice(j, p, "tangential_law", s.tangential_law,
+                              {{"creep", TangentialLaw::Creep}, {"spring", TangentialLaw::Spring}});
   s.warm_start = r.boolean(j, p, "warm_start", s.warm_start);
   // The spring's load is the contact's kept impulse, which only the warm start finds.
   if (s.tangential_law == TangentialLaw::Spring && !s.warm_start)

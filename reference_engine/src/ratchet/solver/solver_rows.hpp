@@ -34,7 +34,9 @@ struct alignas(64) SolverRow {
   // stalled solve has frozen it, the one it keeps (0: the weaker push, chosen each time).
   std::int8_t law_taken = 0, law_kept = 0;
   Mat3 F = Mat3::Identity();       // columns n, t1, t2 (world)
-  Vec3 u0 = Vec3::Zero();          // F^T u_expansion: the local velocity no body velocity explains
+  // F^T u_expansion: the local velocity no body velocity explains; with the spring law also
+  // -c lambda_kept along t1, t2 (World::warm_start, docs/method.md s. 5).
+  Vec3 u0 = Vec3::Zero();
   Mat3 Ja = Mat3::Zero(), Jb = Mat3::Zero();  // rows r x e_k: angular velocity -> local velocity
   Mat3 W = Mat3::Zero();           // local Delassus block W = H^T M^-1 H (only W(0,0) without friction)
   Mat3 W_inv = Mat3::Zero();       // (W + c I)^-1 (the stick solution), with friction only
