@@ -279,11 +279,14 @@ def test_no_file_of_the_repository_points_outside_it():
 def test_the_law_line_names_the_tangential_law_and_the_creep_only_where_it_is():
     from campaign_lib.plan import load_plan
     plan = load_plan(paper_repro.DEFAULT_PLAN)
-    assert "tangential law creep (sticking contacts creep" in paper_repro._law(plan)
-    plan.set = {**plan.set, "solver.tangential_law": "spring", "solver.compliance": 0.03}
+    # The paper tier's scene: the spring law at 0.01, whose measured error the line names.
     line = paper_repro._law(plan)
-    assert line.startswith("compliant, ε = 0.03 (solver.compliance), tangential law spring;")
-    assert "creep" not in line
+    assert line.startswith("compliant, ε = 0.01 (solver.compliance), tangential law spring;")
+    assert "The spring law at the paper's depth" in line and "creep (" not in line
+    plan.set = {**plan.set, "solver.tangential_law": "creep", "solver.compliance": 0.1}
+    line = paper_repro._law(plan)
+    assert "tangential law creep (sticking contacts creep" in line
+    assert "the law moves the peak pressure and the halving ratio" in line
 
 
 def test_the_contact_law_and_the_compliance_ladders_are_shown(tmp_path):
@@ -297,10 +300,9 @@ def test_the_contact_law_and_the_compliance_ladders_are_shown(tmp_path):
     data = paper_repro.build(results=tmp_path / "none", out=tmp_path / "out",
                              ladders=[(0.0, zero), (6.0, six), (8.0, tmp_path / "absent.json")])
     # The plan's scene is the paper tier's compliant law, not the paper's rigid one.
-    assert data["law"].startswith("compliant, ε = 0.1 (")
+    assert data["law"].startswith("compliant, ε = 0.01 (")
     assert "the paper's law is rigid" in data["law"]
-    # No tangential law in the scene: the engine's default, whose creep the line names.
-    assert "tangential law creep (sticking contacts creep" in data["law"]
+    assert "tangential law spring" in data["law"]
     assert data["ladder_state"] == "0° partial, 6° complete"  # the absent file is left out
     rows = {r["eps"]: r for r in data["ladders"]}
     assert list(rows) == ["0.1", "0.01"]  # decreasing compliance
@@ -309,7 +311,7 @@ def test_the_contact_law_and_the_compliance_ladders_are_shown(tmp_path):
     assert rows["0.1"]["ratio"] == "0.56"
     assert rows["0.01"]["angles"] == {0.0: "100.0 ± 10.0 (2)", 6.0: "40.0 ± 2.0 (3)"}
     text = markdown(data)
-    assert "- Contact law: compliant, ε = 0.1" in text
+    assert "- Contact law: compliant, ε = 0.01" in text
     assert "| 0.01 | 100.0 ± 10.0 (2) | 40.0 ± 2.0 (3) | 0.40 ± 0.04 |" in text
     # Without ladders the table is left out.
     assert "| ε | 0° | 6° |" not in markdown(
