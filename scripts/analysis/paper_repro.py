@@ -39,9 +39,12 @@ DEFAULT_PLAN = REPO_ROOT / "validation" / "campaigns" / "paper.json"
 DEFAULT_RESULTS = REPO_ROOT / "validation" / "results" / "paper"
 # The compliance ladders on the paper's bed (scripts/compare-settings comparisons, kept in
 # validation/results/accuracy/; docs/accuracy-cost.md, "The compliance at the paper's
-# depth"): (cone angle, file). A missing file is left out.
-LAW_LADDERS = ((0.0, REPO_ROOT / "validation" / "results" / "accuracy" / "law_ladder_paper.json"),
-               (6.0, REPO_ROOT / "validation" / "results" / "accuracy" / "law_ladder_paper6.json"))
+# depth" and "The spring law at the paper's depth"): (cone angle, file). Settings 'e<eps>'
+# are the creep law's, 's<eps>' the spring law's. A missing file is left out.
+_ACCURACY = REPO_ROOT / "validation" / "results" / "accuracy"
+LAW_LADDERS = ((0.0, _ACCURACY / "law_ladder_paper.json"), (6.0, _ACCURACY / "law_ladder_paper6.json"),
+               (0.0, _ACCURACY / "spring_ladder_paper.json"), (6.0, _ACCURACY / "spring_ladder_paper6.json"))
+_LADDER_LAWS = {"s": "spring", "e": "creep"}  # the order of the table's rows
 TITLE = "The paper, figure by figure"
 #: The kind of study of a plan part, by the scene path it sweeps.
 KIND_OF_SWEEP = {ANGLE: "angle", ALPHA_C: "ratio"}
@@ -453,16 +456,17 @@ def _law(plan: Plan) -> str:
                     "the table)")
     else:
         measured = ("On the paper's bed the spring law's P_max and vorticity at ε = 0.01 are within the scatter of "
-                    "ε = 0.003 and its compaction about 1 % of the volume short of the stiff limit (docs/accuracy-cost.md, "
-                    "The spring law at the paper's depth; the ladders below the table are the creep law's)")
+                    "ε = 0.003 and its compaction about 1 % of the volume short of the stiff limit (the ladders below "
+                    "the table; docs/accuracy-cost.md, The spring law at the paper's depth)")
     return (f"compliant, ε = {shown} (solver.compliance), tangential law {tangential}{creep}; the paper's law "
             f"is rigid. {measured}: the verdicts are those of this law")
 
 
 def _ladders(ladders) -> tuple[list, dict]:
-    """Per compliance of the ladders: P_max (mean ± SE, runs) at each angle, and the ratio
-    of the 6° cone's to the cylinder's where both were run (SE by propagation of the two
-    SEs). Rows in the order of decreasing compliance."""
+    """Per tangential law and compliance of the ladders: P_max (mean ± SE, runs) at each
+    angle, and the ratio of the 6° cone's to the cylinder's where both were run (SE by
+    propagation of the two SEs). Rows by law (spring, then creep), then by decreasing
+    compliance; the state is per ladder file, named by its law and angle."""
     table = {}
     complete = {}
     for angle, path in ladders:
@@ -471,19 +475,23 @@ def _ladders(ladders) -> tuple[list, dict]:
             continue
         try:
             data = json.loads(path.read_text())
-            complete[angle] = data.get("complete", True)
+            laws = set()
             for setting, e in data["observables"]["P_max"].items():
-                eps = _ladder_compliance(setting)
-                if eps is None or e.get("mean") is None:
+                key = _ladder_compliance(setting)
+                if key is None or e.get("mean") is None:
                     continue
-                table.setdefault(eps, {})[angle] = (float(e["mean"]), e.get("se"), int(e["n"]))
+                laws.add(key[0])
+                table.setdefault(key, {})[angle] = (float(e["mean"]), e.get("se"), int(e["n"]))
+            for law in laws:
+                complete[(law, angle)] = data.get("complete", True)
         except (ValueError, KeyError, TypeError, AttributeError) as problem:
             raise PaperReproError(f"{path}: not a compare-settings comparison.json with observables.P_max "
                                   f"per setting ({type(problem).__name__}: {problem})") from None
     rows = []
-    for eps in sorted(table, reverse=True):
-        cells = table[eps]
-        row = {"eps": f"{eps:g}", "angles": {}, "ratio": "—"}
+    order = list(_LADDER_LAWS.values())
+    for law, eps in sorted(table, key=lambda k: (order.index(k[0]), -k[1])):
+        cells = table[(law, eps)]
+        row = {"law": law, "eps": f"{eps:g}", "angles": {}, "ratio": "—"}
         for angle, (mean, se, n) in cells.items():
             row["angles"][angle] = f"{mean:.1f}" + (f" ± {se:.1f}" if se is not None else "") + f" ({n})"
         if 0.0 in cells and 6.0 in cells:
@@ -494,17 +502,21 @@ def _ladders(ladders) -> tuple[list, dict]:
             else:
                 row["ratio"] = f"{r:.2f}"
         rows.append(row)
-    return rows, {a: ("complete" if c else "partial") for a, c in complete.items()}
+    state = {k: ("complete" if complete[k] else "partial")
+             for k in sorted(complete, key=lambda k: (order.index(k[0]), k[1]))}
+    return rows, state
 
 
 def _ladder_compliance(setting: str):
-    """The compliance a ladder's setting names: 'e0.01' -> 0.01, else None."""
-    if setting.startswith("e"):
-        try:
-            return float(setting[1:])
-        except ValueError:
-            return None
-    return None
+    """The law and compliance a ladder's setting names: 'e0.01' -> ('creep', 0.01),
+    's0.01' -> ('spring', 0.01); anything else (e.g. 's0.01-ramp20') -> None."""
+    law = _LADDER_LAWS.get(setting[:1])
+    if law is None:
+        return None
+    try:
+        return law, float(setting[1:])
+    except ValueError:
+        return None
 
 
 def _figures(analyses: dict, runs: Runs, statement: Statement, out: Path,
@@ -604,7 +616,7 @@ def build(plan_path: Path = DEFAULT_PLAN, results: Path = DEFAULT_RESULTS, out: 
                  if todo else "nothing: every planned run is stored"),
         "engines": engines, "refused": runs.refused, "statements": statements,
         "law": _law(plan), "ladders": ladder_rows,
-        "ladder_state": ", ".join(f"{a:g}° {st}" for a, st in sorted(ladder_state.items())),
+        "ladder_state": ", ".join(f"{law} {a:g}° {st}" for (law, a), st in ladder_state.items()),
     }
 
 

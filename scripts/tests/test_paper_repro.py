@@ -282,7 +282,7 @@ def test_the_law_line_names_the_tangential_law_and_the_creep_only_where_it_is():
     # The paper tier's scene: the spring law at 0.01, whose measured error the line names.
     line = paper_repro._law(plan)
     assert line.startswith("compliant, ε = 0.01 (solver.compliance), tangential law spring;")
-    assert "The spring law at the paper's depth" in line and "creep (" not in line
+    assert "The spring law at the paper's depth" in line and "creep" not in line
     plan.set = {**plan.set, "solver.tangential_law": "creep", "solver.compliance": 0.1}
     line = paper_repro._law(plan)
     assert "tangential law creep (sticking contacts creep" in line
@@ -297,24 +297,32 @@ def test_the_contact_law_and_the_compliance_ladders_are_shown(tmp_path):
         return path
     zero = ladder("l0.json", False, {"e0.01": (100.0, 10.0, 2), "e0.1": (50.0, None, 1)})
     six = ladder("l6.json", True, {"e0.01": (40.0, 2.0, 3), "e0.1": (28.0, 0.4, 3)})
+    # The spring law's ladder: its settings are 's<eps>'; one with a suffix is not a rung.
+    spring = ladder("s0.json", False, {"s0.003": (130.0, 8.0, 3), "s0.01": (150.0, 4.0, 3),
+                                      "s0.01-ramp20": (1.0, 1.0, 3)})
     data = paper_repro.build(results=tmp_path / "none", out=tmp_path / "out",
-                             ladders=[(0.0, zero), (6.0, six), (8.0, tmp_path / "absent.json")])
+                             ladders=[(0.0, zero), (6.0, six), (8.0, tmp_path / "absent.json"), (0.0, spring)])
     # The plan's scene is the paper tier's compliant law, not the paper's rigid one.
     assert data["law"].startswith("compliant, ε = 0.01 (")
     assert "the paper's law is rigid" in data["law"]
     assert "tangential law spring" in data["law"]
-    assert data["ladder_state"] == "0° partial, 6° complete"  # the absent file is left out
-    rows = {r["eps"]: r for r in data["ladders"]}
-    assert list(rows) == ["0.1", "0.01"]  # decreasing compliance
+    # The absent file is left out; the state is per law and angle.
+    assert data["ladder_state"] == "spring 0° partial, creep 0° partial, creep 6° complete"
+    rows = {(r["law"], r["eps"]): r for r in data["ladders"]}
+    # The spring law first (the tier's), then the creep law; each by decreasing compliance.
+    assert list(rows) == [("spring", "0.01"), ("spring", "0.003"), ("creep", "0.1"), ("creep", "0.01")]
     # 0.40 ± 0.40 hypot(0.1, 0.05) = 0.045; no SE where a point has one bed.
-    assert rows["0.01"]["ratio"] == "0.40 ± 0.04"
-    assert rows["0.1"]["ratio"] == "0.56"
-    assert rows["0.01"]["angles"] == {0.0: "100.0 ± 10.0 (2)", 6.0: "40.0 ± 2.0 (3)"}
+    assert rows[("creep", "0.01")]["ratio"] == "0.40 ± 0.04"
+    assert rows[("creep", "0.1")]["ratio"] == "0.56"
+    assert rows[("creep", "0.01")]["angles"] == {0.0: "100.0 ± 10.0 (2)", 6.0: "40.0 ± 2.0 (3)"}
+    assert rows[("spring", "0.01")]["angles"] == {0.0: "150.0 ± 4.0 (3)"}
+    assert rows[("spring", "0.01")]["ratio"] == "—"  # no 6° rung of that law
     text = markdown(data)
     assert "- Contact law: compliant, ε = 0.01" in text
-    assert "| 0.01 | 100.0 ± 10.0 (2) | 40.0 ± 2.0 (3) | 0.40 ± 0.04 |" in text
+    assert "| creep | 0.01 | 100.0 ± 10.0 (2) | 40.0 ± 2.0 (3) | 0.40 ± 0.04 |" in text
+    assert "| spring | 0.01 | 150.0 ± 4.0 (3) | — | — |" in text
     # Without ladders the table is left out.
-    assert "| ε | 0° | 6° |" not in markdown(
+    assert "| law | ε | 0° | 6° |" not in markdown(
         paper_repro.build(results=tmp_path / "none", out=tmp_path / "out2", ladders=[]))
     # A damaged comparison is an error naming the file, not a traceback.
     bad = tmp_path / "bad.json"
