@@ -44,7 +44,8 @@ DEFAULT_RESULTS = REPO_ROOT / "validation" / "results" / "paper"
 _ACCURACY = REPO_ROOT / "validation" / "results" / "accuracy"
 LAW_LADDERS = ((0.0, _ACCURACY / "law_ladder_paper.json"), (6.0, _ACCURACY / "law_ladder_paper6.json"),
                (0.0, _ACCURACY / "spring_ladder_paper.json"), (6.0, _ACCURACY / "spring_ladder_paper6.json"))
-_LADDER_LAWS = {"s": "spring", "e": "creep"}  # the order of the table's rows
+_LADDER_LAWS = {"s": "spring", "e": "creep"}  # setting prefix -> law, in the order of the table's rows
+_LAW_RANK = {law: i for i, law in enumerate(_LADDER_LAWS.values())}
 TITLE = "The paper, figure by figure"
 #: The kind of study of a plan part, by the scene path it sweeps.
 KIND_OF_SWEEP = {ANGLE: "angle", ALPHA_C: "ratio"}
@@ -488,8 +489,7 @@ def _ladders(ladders) -> tuple[list, dict]:
             raise PaperReproError(f"{path}: not a compare-settings comparison.json with observables.P_max "
                                   f"per setting ({type(problem).__name__}: {problem})") from None
     rows = []
-    order = list(_LADDER_LAWS.values())
-    for law, eps in sorted(table, key=lambda k: (order.index(k[0]), -k[1])):
+    for law, eps in sorted(table, key=lambda k: (_LAW_RANK[k[0]], -k[1])):
         cells = table[(law, eps)]
         row = {"law": law, "eps": f"{eps:g}", "angles": {}, "ratio": "—"}
         for angle, (mean, se, n) in cells.items():
@@ -502,9 +502,8 @@ def _ladders(ladders) -> tuple[list, dict]:
             else:
                 row["ratio"] = f"{r:.2f}"
         rows.append(row)
-    state = {k: ("complete" if complete[k] else "partial")
-             for k in sorted(complete, key=lambda k: (order.index(k[0]), k[1]))}
-    return rows, state
+    ranked = sorted(complete, key=lambda k: (_LAW_RANK[k[0]], k[1]))
+    return rows, {k: ("complete" if complete[k] else "partial") for k in ranked}
 
 
 def _ladder_compliance(setting: str):
