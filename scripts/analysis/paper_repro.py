@@ -345,13 +345,26 @@ def _why(reason: str) -> str:
     return text
 
 
+def _papers_point(a) -> str:
+    """How a's per-point checks name the paper's own point (theta_c = 0, alpha_c/alpha_p =
+    10), which both studies hold: the same stored runs."""
+    return f"({a.point_label(trends.PAPER_VALUE[a.kind])})"
+
+
 def _check_rows(analyses: dict, statement: Statement) -> list:
     rows = []
+    shared_shown = False
     for part in statement.parts:
         a = analyses.get(part)
+        shared = _papers_point(a) if a else ""
+        shown_here = False
         for r in (a.results if a else []):
             if r.check_id not in statement.checks:
                 continue
+            if shared in r.check:
+                if shared_shown:
+                    continue  # the paper's point judged once: its runs are those of the part before
+                shown_here = True
             shown = result_text(r.status, r.measured)
             measured = r.measured
             rows.append({"id": r.check_id, "case": r.case, "check": r.check,
@@ -360,6 +373,7 @@ def _check_rows(analyses: dict, statement: Statement) -> list:
                          "tolerance": r.tolerance, "result": shown,
                          "result_class": RESULT_CLASS[shown],
                          "why": "" if shown == "PASS" else _why(r.reason)})
+        shared_shown = shared_shown or shown_here
     order = {c: i for i, c in enumerate(statement.checks)}
     return sorted(rows, key=lambda row: order[row["id"]])
 
@@ -384,6 +398,14 @@ def _verdict(rows: list, scale: dict) -> tuple[str, str]:
     return f"NOT CHECKED: every check skipped ({counts}{provisional})", "skip"
 
 
+def _other_studys_point(statement: Statement, check: str) -> bool:
+    """A per-point check of a study the statement does not read (pmax_steady at an
+    alpha_c/alpha_p under Fig. 3a, which is about theta_c)."""
+    studies = [p for p in statement.parts if p in trends.X_LABELS]
+    return bool(studies) and any(f"({label}=" in check for kind, label in trends.X_LABELS.items()
+                                 if kind not in studies)
+
+
 def _reduced(statement: Statement, reduced) -> list:
     """The stored and this run's headline records (analysis/headline.py) for the
     statement's checks: reduced scales, never the paper-scale verdict."""
@@ -394,7 +416,7 @@ def _reduced(statement: Statement, reduced) -> list:
         label = (f"{source}: {record['tier']} tier, {record['generated']}, engine commit "
                  f"{record['engine_commit']} ({scale})")
         for row in headline.table_rows(record):
-            if row["id"] in statement.checks:
+            if row["id"] in statement.checks and not _other_studys_point(statement, row["check"] or ""):
                 out.append({"label": label, "tier": record["tier"], "source": source,
                             "check": row["check"] or row["statement"],
                             "measured": row["measured"], "result": row["result"],

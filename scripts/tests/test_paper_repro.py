@@ -149,6 +149,32 @@ def test_every_statement_with_runs_has_its_figures(tmp_path, monkeypatch):
     assert not list((tmp_path / "out" / "figures").glob("*.png"))
 
 
+def test_the_papers_point_is_judged_once_though_both_studies_hold_it(tmp_path):
+    # theta_c = 0 at alpha_c/alpha_p = 10 is a point of the angle and of the ratio study:
+    # the same stored runs, so a per-point check of a statement read from both parts
+    # (Fig. 6: wrms_early_larger) counts them once.
+    results = tmp_path / "results"
+    paper_runs.store_halving(results)
+    data = paper_repro.build(results=results, out=tmp_path / "out")
+    rows = [r for r in statement(data, "fig6")["checks"] if r["id"] == "wrms_early_larger"]
+    assert [r["check"] for r in rows] == ["W_rms first window > last (theta_c=0 deg)",
+                                          "W_rms first window > last (theta_c=6 deg)"]
+    assert [r["case"] for r in rows] == ["trends_angle:angle"] * 2
+    every = statement(data, "fig6")["checks"]
+    assert not any("alpha_c/alpha_p=10" in r["check"] for r in every)  # nor the skipped toroidal rows
+    assert statement(data, "fig6")["verdict"] == "PASSED (2 passed, 2 skipped; provisional: 4 of 45 runs)"
+
+
+def test_a_reduced_records_per_point_rows_go_under_their_own_study(tmp_path):
+    steady = [{"id": "pmax_steady", "statement": "steady", "status": "passed", "check": f"P_max steady ({p})",
+               "measured": 0.1, "detail": "", "reason": "", "fit": None}
+              for p in ("theta_c=0 deg", "alpha_c/alpha_p=1")]
+    record = dict(RECORD, rows=RECORD["rows"] + steady)
+    data = paper_repro.build(results=tmp_path / "none", out=tmp_path / "out", reduced=[("Stored", record)])
+    assert [r["check"] for r in statement(data, "fig3a")["reduced"]] == ["P_max steady (theta_c=0 deg)"]
+    assert [r["check"] for r in statement(data, "fig3c")["reduced"]] == ["P_max steady (alpha_c/alpha_p=1)"]
+
+
 def test_a_contradiction_shows_contradicted_never_passed(tmp_path):
     results = tmp_path / "results"
     paper_runs.store_halving(results, p6=(0.9, 0.91))  # the cone lowers the peak by a tenth
