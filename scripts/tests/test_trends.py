@@ -781,6 +781,24 @@ def test_the_stored_headline_carries_each_checks_status_and_fit(tmp_path):
     assert fit["coefficients"][2] == pytest.approx(0.04, rel=0.2)
 
 
+def test_the_stored_standard_record_is_what_its_stored_runs_give_today(tmp_path):
+    # validation/results/standard.json keeps its runs' small files beside it: the record
+    # must be derivable from them under today's rules, or a change of the rules (or of
+    # the files) left it stale (docs/trends.md, "Stored results").
+    results = SCRIPTS.parent / "validation" / "results"
+    stored = headline.load_record(results / "standard.json")
+    again = tmp_path / "standard.json"
+    assert cli.main([str(results / "standard" / "angle"), str(results / "standard" / "ratio"),
+                     "--tier", "standard", "--out", str(tmp_path / "out"), "--no-plots",
+                     "--store", str(again), "--engine-commit", stored["engine_commit"]]) == 0
+    fresh = headline.load_record(again)
+    assert fresh["counts"] == stored["counts"]
+
+    def key(row):
+        return row["id"], row["check"], row["status"], row["measured"]
+    assert [key(r) for r in fresh["rows"]] == [key(r) for r in stored["rows"]]
+
+
 # --------------------------------------------------------------------------- plots
 
 
