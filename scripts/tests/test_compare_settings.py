@@ -103,6 +103,26 @@ def test_table_agrees_with_the_runs(done):
     assert (out / "figures" / "compare_settings.png").stat().st_size > 1000
 
 
+def test_the_stage_fields_give_the_still_zone_and_the_circulation(done, tmp_path):
+    sys.path.insert(0, str(REPO_ROOT / "scripts"))
+    from analysis import fields
+    tool = load_tool()
+    run = done[1] / "runs" / "rigid-s1"
+    assert not (run / "stage_fields.csv").exists() and "still_zone_f" not in tool.observe(run)
+    # The same bed with the stage fields written: the observables are the checks' measures.
+    staged_set = {"particles.generate.count": 20, "thermal.cycles": 1, "outputs.steady_cycles": [0, 0],
+                  "outputs.displacement": {"cell": 2.0, "windows": [[0, 1]], "stages": True}}
+    plan = write_plan(tmp_path, set=staged_set)
+    r = call(plan, "--out", tmp_path / "out", "--jobs", "2")
+    assert r.returncode == 0, r.stderr
+    staged = tmp_path / "out" / "runs" / "rigid-s1"
+    row = tool.observe(staged)
+    stage = fields.read_stage_fields(staged)
+    assert row["still_zone_f"] == pytest.approx(fields.still_zone_ratio(stage).value, nan_ok=True)
+    assert row["circulation_per_cycle"] == pytest.approx(fields.circulation(stage).per_cycle.value, nan_ok=True)
+    assert "still_zone_f" in json.loads((tmp_path / "out" / "comparison.json").read_text())["observables"]
+
+
 def test_second_call_resumes(done):
     plan, out = done
     before = {p: p.stat().st_mtime_ns for p in (out / "runs").glob("*/run.json")}

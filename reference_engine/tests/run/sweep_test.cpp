@@ -169,6 +169,17 @@ TEST(LoadSweep, RejectsBadSweepsBeforeWritingAnything) {
   EXPECT_FALSE(fs::exists(out));
 }
 
+TEST(SummaryCsvCell, EveryKindOfGridValueKeepsItsColumn) {
+  EXPECT_EQ(summary_csv_cell(json(6)), "6");
+  EXPECT_EQ(summary_csv_cell(json(0.001)), "0.001");
+  EXPECT_EQ(summary_csv_cell(json(true)), "true");   // a boolean grid (e.g. container.floor_expands)
+  EXPECT_EQ(summary_csv_cell(json(false)), "false");
+  EXPECT_EQ(summary_csv_cell(json(nullptr)), "");
+  EXPECT_EQ(summary_csv_cell(json("spring")), "spring");
+  EXPECT_EQ(summary_csv_cell(json("a, \"b\"")), "\"a, \"\"b\"\"\"");
+  EXPECT_EQ(summary_csv_cell(json::array({0, 3})), "\"[0,3]\"");
+}
+
 TEST(RunCompleted, OnlyACompletedRunJsonOfTheSameSceneAndEngine) {
   Dir dir("completed");
   const SweepPlan plan = load_sweep(dir.write({{"scene", kScene}, {"realizations", 1}}), dir.path.string());

@@ -73,6 +73,25 @@ TEST(Scene, ConeHasABottomAndSegmentsLeaningOutByTheOpeningAngle) {
   }
 }
 
+TEST(Scene, ConeFloorExpandsUnlessTheSceneSaysOtherwise) {
+  json j = minimal_scene();
+  j["container"] = {{"type", "cone"}};
+  const SceneDef s = build_scene(j, "scene.json");
+  EXPECT_TRUE(s.container.floor_expands);
+  EXPECT_TRUE(s.container.walls[0].expands);
+  j["container"]["floor_expands"] = false;
+  const SceneDef t = build_scene(j, "scene.json");
+  EXPECT_FALSE(t.container.walls[0].expands);
+  for (std::size_t k = 1; k < t.container.walls.size(); ++k) EXPECT_TRUE(t.container.walls[k].expands);
+  j["container"]["floor_expands"] = "no";
+  try {
+    build_scene(j, "scene.json");
+    FAIL() << "a floor_expands that is not a boolean was accepted";
+  } catch (const std::exception& e) {
+    EXPECT_NE(std::string(e.what()).find("container.floor_expands"), std::string::npos) << e.what();
+  }
+}
+
 TEST(Scene, GeneratedParticlesAreFixedBySeedAndDoNotOverlap) {
   json j = minimal_scene();
   j["particles"] = {{"generate", {{"count", 50}, {"vertices", 12}}}};

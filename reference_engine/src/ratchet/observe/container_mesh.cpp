@@ -23,8 +23,9 @@ void cone_mesh(const ContainerDef& c, double s_c, ContainerMesh& m) {
       const double psi = (2.0 * j - 1.0) * half;
       const double r = ring == 0 ? r_bottom : r_top;
       const Vec3 p(r * std::cos(psi), r * std::sin(psi), ring == 0 ? 0.0 : c.height);
-      // All cone walls expand (scene/scene_sections.cpp, build_cone_walls); the floor's flag stands for all.
-      m.points.push_back(scaled(c, p, c.walls[0].expands, s_c));
+      // The corners are the side walls' (scene/scene_sections.cpp, build_cone_walls): they
+      // move with them, whether or not the floor's material does.
+      m.points.push_back(scaled(c, p, c.walls[1].expands, s_c));
     }
   std::vector<int> floor(static_cast<std::size_t>(n));
   for (int j = 0; j < n; ++j) floor[static_cast<std::size_t>(j)] = j;  // counter-clockwise seen from +z

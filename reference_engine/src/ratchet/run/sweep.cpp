@@ -340,6 +340,18 @@ void run_sweep(const SweepPlan& plan, const std::vector<int>& ids, int jobs,
   for (std::thread& t : threads) t.join();
 }
 
+std::string summary_csv_cell(const json& v) {
+  if (v.is_null()) return "";
+  if (v.is_number_float()) return format_double(v.get<double>());
+  if (v.is_number()) return v.dump();
+  if (v.is_boolean()) return v.get<bool>() ? "true" : "false";
+  const std::string text = v.is_string() ? v.get<std::string>() : v.dump();
+  if (text.find_first_of(",\"\r\n") == std::string::npos) return text;
+  std::string quoted = "\"";
+  for (char c : text) quoted += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return quoted + "\"";
+}
+
 void write_sweep_summary(const SweepPlan& plan) {
   // Columns: run, grid keys, thermal.alpha_p, seed, then the summary keys of the runs.
   std::vector<json> metas;
@@ -353,12 +365,7 @@ void write_sweep_summary(const SweepPlan& plan) {
           if (std::find(keys.begin(), keys.end(), it.key()) == keys.end()) keys.push_back(it.key());
   }
   std::sort(keys.begin(), keys.end());
-  auto cell = [](const json& v) -> std::string {
-    if (v.is_number_float()) return format_double(v.get<double>());
-    if (v.is_number()) return v.dump();
-    if (v.is_string()) return v.get<std::string>();
-    return "";
-  };
+  const auto cell = summary_csv_cell;
   std::ostringstream csv, timings;
   csv << "run";
   for (const std::string& k : plan.grid_keys) csv << ',' << k;

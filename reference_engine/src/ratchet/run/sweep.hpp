@@ -82,4 +82,9 @@ void run_sweep(const SweepPlan& plan, const std::vector<int>& ids, int jobs,
 // run.json files. Runs without a completed run.json get status "missing".
 void write_sweep_summary(const SweepPlan& plan);
 
+// One cell of summary.csv: a number as the run files write it, a boolean as true/false,
+// null as empty, a string or any other JSON value (an array or object a grid swept) as
+// itself, quoted (RFC 4180) when it holds a comma, a quote or a line break.
+std::string summary_csv_cell(const nlohmann::json& v);
+
 }  // namespace ratchet

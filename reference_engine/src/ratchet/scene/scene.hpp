@@ -99,6 +99,7 @@ struct ContainerDef {
   double opening_angle_deg = 0.0; // angle of the side wall from the vertical
   int segments = 16;
   double height = 30.0;
+  bool floor_expands = true;      // the floor's points move with the container scale (drag)
   Vec3 scale_center = Vec3::Zero();  // the bottom centre: container points scale about it
   std::vector<WallDef> walls;
 };

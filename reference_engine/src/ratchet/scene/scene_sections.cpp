@@ -83,14 +83,16 @@ void read_thermal(const Reader& r, const json& j, ThermalProtocol& t) {
 
 namespace {
 
-// Cone: 16 (segments) planar side walls around the z axis and the floor z = 0.
+// Cone: 16 (segments) planar side walls around the z axis and the floor z = 0. The
+// floor lies through the scale centre, so its plane stays put; floor_expands only says
+// whether its material moves radially with the container (and drags what sticks to it).
 // Side wall k has its middle at azimuth phi_k = 2 pi k / N, distance r_c from the axis
 // at z = 0, and leans outward by theta_c: inward normal
 // n_k = (-cos(theta_c) cos(phi_k), -cos(theta_c) sin(phi_k), sin(theta_c)).
 void build_cone_walls(ContainerDef& c) {
   const double theta = c.opening_angle_deg * M_PI / 180.0;
   c.walls.clear();
-  c.walls.push_back({Vec3::UnitZ(), Vec3::Zero(), WallRole::Bottom, true});
+  c.walls.push_back({Vec3::UnitZ(), Vec3::Zero(), WallRole::Bottom, c.floor_expands});
   for (int k = 0; k < c.segments; ++k) {
     const double phi = 2.0 * M_PI * k / c.segments;
     const Vec3 n(-std::cos(theta) * std::cos(phi), -std::cos(theta) * std::sin(phi), std::sin(theta));
@@ -106,13 +108,14 @@ void read_container(const Reader& r, const json& j, ContainerDef& c) {
   if (!j.is_object()) r.fail(p, "an object", &j);
   const std::string type = r.string(j, p, "type", "");
   if (type == "cone") {
-    r.object(j, p, {"type", "bottom_radius", "opening_angle_deg", "segments", "height"});
+    r.object(j, p, {"type", "bottom_radius", "opening_angle_deg", "segments", "height", "floor_expands"});
     c.type = ContainerDef::Type::Cone;
     c.bottom_radius = r.positive(j, p, "bottom_radius", c.bottom_radius);
     c.opening_angle_deg = r.number(j, p, "opening_angle_deg", c.opening_angle_deg, 0.0, 45.0, false,
                                    false, "an angle in degrees in [0, 45]");
     c.segments = static_cast<int>(r.integer(j, p, "segments", c.segments, 3, 1024));
     c.height = r.positive(j, p, "height", c.height);
+    c.floor_expands = r.boolean(j, p, "floor_expands", c.floor_expands);
     build_cone_walls(c);
   } else if (type == "planes") {
     r.object(j, p, {"type", "planes"});
