@@ -110,7 +110,7 @@ TEST(Packing, KeyLeavesOutOnlyWhatCannotActBeforeTheSettleStageEnds) {
       {"thermal.alpha_c", 1e-4}, {"thermal.alpha_p", 2e-4}, {"thermal.T1", 50},   {"thermal.heat_time", 2.0},
       {"thermal.hold_time", 0.0}, {"thermal.cool_time", 3.0}, {"thermal.cycles", 4}, {"name", "other"},
       {"description", "text"},    {"time.duration", 100.0},  {"solver.threads", 2},
-      {"outputs", json{{"timeseries_every", 7}}}};
+      {"outputs", json{{"timeseries_every", 7}}}, {"container.floor_expands", false}};
   const std::vector<std::pair<std::string, json>> different{
       {"container.opening_angle_deg", 6.0}, {"seed", 6}, {"thermal.T0", 10.0}, {"time.dt", 0.004},
       {"materials.friction", 0.3}, {"solver.p_gap", 0.2}, {"solver.criterion", "velocity"},

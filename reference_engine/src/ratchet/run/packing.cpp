@@ -94,6 +94,8 @@ json packing_scene(const json& scene) {
     for (const char* k : {"T1", "heat_time", "hold_time", "cool_time", "cycles", "alpha_p", "alpha_c"}) j["thermal"].erase(k);
     if (j.contains("settle")) j["thermal"].erase("start_time");
   }
+  // Nor can whether the floor's material expands: it moves with s_c, which stays 1.
+  if (j.contains("container") && j["container"].is_object()) j["container"].erase("floor_expands");
   return j;
 }
 
