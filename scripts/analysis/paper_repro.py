@@ -345,7 +345,7 @@ def _why(reason: str) -> str:
     return text
 
 
-def _papers_point(a) -> str:
+def _papers_point_label(a) -> str:
     """How a's per-point checks name the paper's own point (theta_c = 0, alpha_c/alpha_p =
     10), which both studies hold: the same stored runs."""
     return f"({a.point_label(trends.PAPER_VALUE[a.kind])})"
@@ -356,7 +356,7 @@ def _check_rows(analyses: dict, statement: Statement) -> list:
     shared_shown = False
     for part in statement.parts:
         a = analyses.get(part)
-        shared = _papers_point(a) if a else ""
+        shared = _papers_point_label(a) if a else ""
         shown_here = False
         for r in (a.results if a else []):
             if r.check_id not in statement.checks:

@@ -17,6 +17,7 @@ import pytest
 from scipy import stats
 
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+from analysis import fields  # noqa: E402
 from common.paths import REPO_ROOT, engine_binary  # noqa: E402
 
 RATCHET = engine_binary()
@@ -104,8 +105,6 @@ def test_table_agrees_with_the_runs(done):
 
 
 def test_the_stage_fields_give_the_still_zone_and_the_circulation(done, tmp_path):
-    sys.path.insert(0, str(REPO_ROOT / "scripts"))
-    from analysis import fields
     tool = load_tool()
     run = done[1] / "runs" / "rigid-s1"
     assert not (run / "stage_fields.csv").exists() and "still_zone_f" not in tool.observe(run)

@@ -365,7 +365,6 @@ void write_sweep_summary(const SweepPlan& plan) {
           if (std::find(keys.begin(), keys.end(), it.key()) == keys.end()) keys.push_back(it.key());
   }
   std::sort(keys.begin(), keys.end());
-  const auto cell = summary_csv_cell;
   std::ostringstream csv, timings;
   csv << "run";
   for (const std::string& k : plan.grid_keys) csv << ',' << k;
@@ -380,7 +379,7 @@ void write_sweep_summary(const SweepPlan& plan) {
     const json& m = metas[i];
     const bool ok = completed(m, run);
     csv << run.id;
-    for (const auto& p : run.params) csv << ',' << cell(p.second);
+    for (const auto& p : run.params) csv << ',' << summary_csv_cell(p.second);
     if (!has_alpha_p) {
       const SceneDef s = build_scene(run.scene, plan.source);
       csv << ',' << format_double(s.thermal.alpha_p);
@@ -389,7 +388,7 @@ void write_sweep_summary(const SweepPlan& plan) {
     // The packing the run actually started from, as its run.json says.
     if (ok && m.contains("packing") && m.at("packing").is_object()) csv << m.at("packing").value("key", "");
     for (const std::string& k : keys)
-      csv << ',' << (ok && m.at("summary").contains(k) ? cell(m.at("summary").at(k)) : "");
+      csv << ',' << (ok && m.at("summary").contains(k) ? summary_csv_cell(m.at("summary").at(k)) : "");
     csv << ',' << (ok ? "completed" : "missing") << '\n';
     timings << run.id << ',' << (ok ? format_double(m.value("wall_seconds", 0.0)) : "") << ','
             << (ok ? std::to_string(m.value("steps", 0)) : "") << '\n';
