@@ -27,6 +27,7 @@ examples:
   scripts/campaign paper --status
   scripts/campaign paper --dry-run --budget 3 --jobs 2
   scripts/campaign paper --budget 2.5 --jobs 2 --commit
+  scripts/campaign paper --budget 2.5 --threads 2 --commit   # one run at a time on two cores
   scripts/campaign paper --budget 23 --jobs 64 --mpirun          # a cluster allocation
   scripts/campaign paper --assemble out/campaign/paper-sweeps
   scripts/campaign paper --recheck-golden OLD/ratchet --commit   # golden/ moved on, the engine did not
@@ -70,10 +71,12 @@ def non_negative(name):
     return number_at_least(name, 0.0, strict=False)
 
 
-def whole(text):
-    if not text.isdigit() or int(text) < 1:
-        raise argparse.ArgumentTypeError(f"--jobs: expected a whole number >= 1 (runs at a time), got '{text}'")
-    return int(text)
+def whole(name, what):
+    def parse(text):
+        if not text.isdigit() or int(text) < 1:
+            raise argparse.ArgumentTypeError(f"{name}: expected a whole number >= 1 ({what}), got '{text}'")
+        return int(text)
+    return parse
 
 
 def parser() -> argparse.ArgumentParser:
@@ -96,7 +99,11 @@ def parser() -> argparse.ArgumentParser:
                       "else")
     p.add_argument("--budget", type=positive("--budget"), metavar="HOURS",
                    help="wall-clock hours this invocation may take (required to run)")
-    p.add_argument("--jobs", type=whole, default=1, help="runs at a time (default 1)")
+    p.add_argument("--jobs", type=whole("--jobs", "runs at a time"), default=1, help="runs at a time (default 1)")
+    p.add_argument("--threads", type=whole("--threads", "threads per run"), default=1,
+                   help="OpenMP threads of each run (default 1; the results are the same bits for any "
+                        "count): a run then takes about 0.26 + 0.74/THREADS of its one-thread time; keep "
+                        "jobs x threads within the cores")
     p.add_argument("--mpirun", nargs="?", const="mpirun -n 1", metavar="LAUNCHER",
                    help="put LAUNCHER before each engine command (default 'mpirun -n 1'; as root "
                         "--allow-run-as-root is added); e.g. 'srun -n 1 --exclusive'")
@@ -113,10 +120,10 @@ def parser() -> argparse.ArgumentParser:
     p.add_argument("--run-hours", type=positive("--run-hours"), metavar="H",
                    help="the estimated wall hours of one run (default: measured from stored runs, else the "
                         "plan's run_cost_hours)")
-    p.add_argument("--min-slice", type=non_negative("--min-slice"), default=15.0, metavar="MINUTES",
+    p.add_argument("--min-slice", type=non_negative("--min-slice"), default=0.0, metavar="MINUTES",
                    help="a run that will not finish within the budget still starts while this much of it is "
-                        "left, and stops at a checkpoint for the next invocation (default 15; 0: only runs "
-                        "that fit start)")
+                        "left, and stops at a checkpoint for the next invocation: only where the work folder "
+                        "outlives the session (default 0: only runs that fit start)")
     p.add_argument("--stop-margin", type=positive("--stop-margin"), metavar="SECONDS",
                    help="stop the engines this long before the budget ends (default 60, at most a tenth of "
                         "the budget)")
@@ -196,7 +203,7 @@ def print_status(plan, states, estimate, engine, golden_now, work, results) -> N
     stale = sum(1 for s in states if s.stale)
     going = sum(1 for s in states if not s.done and s.started)
     say(f"{done} of {len(states)} runs stored and current, {stale} stale, {going} in progress, "
-        f"{len(left)} to run: about {state.hours(seconds)} of run time left, the runs' wall times summed "
+        f"{len(left)} to run: about {state.hours(seconds)} of run time left, the runs' estimated wall times summed "
         f"(a run: {state.hours(estimate.seconds)}, {estimate.source})")
 
 
@@ -214,7 +221,7 @@ def print_dry_run(states, estimate, budget, jobs, min_slice) -> None:
         slot = min(range(jobs), key=lambda i: slots[i])
         begin = slots[slot]
         fits = budget is None or begin + need <= budget
-        starts = fits or begin <= budget - min_slice
+        starts = fits or (min_slice > 0.0 and begin <= budget - min_slice)   # as Runner._next_fitting
         if fits:
             slots[slot] += need
             fitting += 1
@@ -263,7 +270,7 @@ def main(argv=None) -> int:
             f"{shown(newer[0])}): rebuild unless the build is current")
     golden_now = golden.cached(work, engine)
     states = state.survey(plan, work, results, engine, golden_now)
-    estimate = state.estimate(plan, states, engine, args.run_hours)
+    estimate = state.estimate(plan, states, engine, args.run_hours, args.threads)
 
     if args.status:
         print_status(plan, states, estimate, engine, golden_now, work, results)
@@ -293,13 +300,17 @@ def main(argv=None) -> int:
         if not queue:
             say("every run is current after the golden check; nothing to run")
             return 0
+    cores = os.cpu_count() or 1
+    if args.jobs * args.threads > cores:
+        say(f"warning: {args.jobs} run(s) of {args.threads} thread(s) each on {cores} core(s): more threads than "
+            "cores slows every run far more than in proportion (OpenMP's threads wait busy at each barrier)")
     margin = args.stop_margin if args.stop_margin else min(60.0, 0.1 * budget)
     say(f"plan {plan.name}: {len(states) - len(queue)} of {len(states)} runs stored and current, {len(queue)} to "
-        f"run; budget {state.hours(budget)}, {args.jobs} at a time; a run is estimated at "
+        f"run; budget {state.hours(budget)}, {args.jobs} at a time on {args.threads} thread(s) each; a run is estimated at "
         f"{state.hours(estimate.seconds)} ({estimate.source}); engine {engine.short}")
     runner = Runner(plan, work, results, engine, golden_now, launcher_words(args.mpirun), args.jobs,
                     estimate.seconds, budget, margin, args.progress_every, args.commit, say,
-                    min_slice=60.0 * args.min_slice)
+                    min_slice=60.0 * args.min_slice, threads=args.threads)
     started = time.monotonic()
     outcome = runner.run(queue)
     states = state.survey(plan, work, results, engine, golden_now)

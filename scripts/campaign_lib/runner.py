@@ -59,11 +59,13 @@ class Outcome:
 class Runner:
     def __init__(self, plan: Plan, work: Path, results: Path, engine: Engine, golden_check: dict | None,
                  launcher: list, jobs: int, estimate_seconds: float, budget_seconds: float,
-                 stop_margin: float, progress_every: float, commit: bool, say, min_slice: float = 0.0):
+                 stop_margin: float, progress_every: float, commit: bool, say, min_slice: float = 0.0,
+                 threads: int = 1):
         self.plan, self.work, self.results, self.engine = plan, work, results, engine
         self.golden_check, self.launcher, self.jobs = golden_check, launcher, jobs
         self.estimate = estimate_seconds
         self.min_slice = min_slice  # seconds of budget worth starting a run that will not finish in it
+        self.threads = threads      # OpenMP threads of each engine (the same bits for any count)
         self.start = time.monotonic()
         self.stop_at = self.start + budget_seconds - stop_margin
         self.grace = max(stop_margin, 5.0)
@@ -174,7 +176,7 @@ class Runner:
         with open(folder.log, "a") as log:
             log.write(f"\n=== {now_iso()} scripts/campaign: {' '.join(command)}\n")
             log.flush()
-            env = dict(os.environ, OMP_NUM_THREADS="1")
+            env = dict(os.environ, OMP_NUM_THREADS=str(self.threads))
             proc = subprocess.Popen(command, stdout=log, stderr=subprocess.STDOUT, stdin=subprocess.DEVNULL,
                                     pass_fds=(fd,), start_new_session=True, env=env)
         how = "new" if progress.stage in ("not started", "pouring") else f"resumes: {progress.text()}"
@@ -210,7 +212,7 @@ class Runner:
         wall = time.monotonic() - item.started
         ledger = folder.ledger()
         ledger["segments"].append({"start": item.started_iso, "end": now_iso(), "wall_seconds": round(wall, 1),
-                                   "cpu_seconds": round(cpu, 1), "exit_status": code,
+                                   "cpu_seconds": round(cpu, 1), "threads": self.threads, "exit_status": code,
                                    "host": socket.gethostname(), "command": [shown(c) if "/" in c else c
                                                                              for c in item.command]})
         folder.save_ledger(ledger)
@@ -267,6 +269,8 @@ class Runner:
             "cpu_seconds": round(sum(s["cpu_seconds"] for s in segments), 1),
             "wall_seconds": round(sum(s["wall_seconds"] for s in segments), 1),
             "engine_wall_seconds": run_json.get("wall_seconds"),
+            # The most threads a segment ran on (older segments did not say: one).
+            "threads": max((s.get("threads", 1) for s in segments), default=1),
             "steps": run_json.get("steps"),
         }
         where = store.store(self.results, run, folder.run_dir, provenance)

@@ -54,21 +54,52 @@ class Estimate:
     source: str
 
 
-def estimate(plan: Plan, states: list, engine: Engine, override_hours: float | None) -> Estimate:
-    """Wall seconds of one run (what --budget schedules by, not CPU time): --run-hours,
-    else the median of the stored runs' measured wall times (those of the current engine
-    when there are any), else the plan's run_cost_hours."""
+# The serial share of a paper-tier step with the coloured parallel sweep: one thread
+# T1, n threads about T1 (s + (1 - s) / n), which gave 1.59 at two threads as measured
+# (docs/performance.md, "The coloured parallel sweep": 0.63 T1 at n = 2).
+SERIAL_SHARE = 0.26
+
+
+def thread_factor(threads: int) -> float:
+    """A run's wall time on `threads` threads over its time on one (Amdahl's law with the
+    measured serial share)."""
+    return SERIAL_SHARE + (1.0 - SERIAL_SHARE) / max(1, threads)
+
+
+def one_thread_seconds(provenance: dict) -> float | None:
+    """What a stored run cost on one free core: its CPU seconds, which unlike its wall
+    time do not grow when other work shares the machine (the first paper runs took
+    3.0 h of wall for 2.5 h of CPU beside other runs). A run on n threads spent about n
+    times its wall in CPU (OpenMP's threads wait busy), so its one-thread cost is its
+    CPU over n, over the thread factor."""
+    cpu = provenance.get("cpu_seconds")
+    if not isinstance(cpu, (int, float)) or cpu <= 0:
+        return None
+    threads = provenance.get("threads", 1)
+    threads = threads if isinstance(threads, int) and threads >= 1 else 1
+    return float(cpu) / threads / thread_factor(threads)
+
+
+def estimate(plan: Plan, states: list, engine: Engine, override_hours: float | None,
+             threads: int = 1) -> Estimate:
+    """Wall seconds of one run on `threads` threads and a free core each (what --budget
+    schedules by): --run-hours, else the median of the stored runs' one-thread cost
+    (those of the current engine when there are any) times the thread factor, else the
+    plan's run_cost_hours times the thread factor."""
     if override_hours is not None:
         return Estimate(override_hours * 3600.0, "--run-hours")
-    measured = [(s.stored.provenance.get("wall_seconds"), s.stored.provenance.get("engine", {}))
+    factor = thread_factor(threads)
+    on = "" if threads == 1 else f", x {factor:.2f} on {threads} threads"
+    measured = [(one_thread_seconds(s.stored.provenance), s.stored.provenance.get("engine", {}))
                 for s in states if s.stored]
-    measured = [(w, e) for w, e in measured if isinstance(w, (int, float)) and w > 0]
-    mine = [w for w, e in measured if same_engine(e, engine.record())]
-    use = mine or [w for w, _ in measured]
+    measured = [(c, e) for c, e in measured if c is not None]
+    mine = [c for c, e in measured if same_engine(e, engine.record())]
+    use = mine or [c for c, _ in measured]
     if use:
         which = "current engine's" if mine else "stored"
-        return Estimate(float(statistics.median(use)), f"median of {len(use)} {which} run(s)")
-    return Estimate(plan.run_cost_hours * 3600.0, f"the plan's run_cost_hours ({plan.run_cost_hours:g})")
+        return Estimate(float(statistics.median(use)) * factor,
+                        f"median CPU time of {len(use)} {which} run(s){on}")
+    return Estimate(plan.run_cost_hours * 3600.0 * factor, f"the plan's run_cost_hours ({plan.run_cost_hours:g}){on}")
 
 
 def todo(states: list) -> list:

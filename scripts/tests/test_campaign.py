@@ -138,7 +138,12 @@ def test_a_run_longer_than_the_budget_starts_while_the_minimum_slice_is_left(tmp
                      "--golden-check", "skip", "--run-hours", "100", "--min-slice", "0")
     assert "budget: not starting theta0/seed3" in waits.stdout, waits.stdout
     assert not (tmp_path / "w0" / "runs" / "theta0" / "seed3" / "out").exists()
-    dry = campaign(plan, tmp_path / "w1", tmp_path / "r1", "--dry-run", "--budget", "1", "--run-hours", "100")
+    # By default only runs that fit start: a session's work folder may not outlive it.
+    default = campaign(plan, tmp_path / "w1", tmp_path / "r1", "--dry-run", "--budget", "1", "--run-hours", "100")
+    assert "[not within the budget]" in default.stdout, default.stdout
+    assert "0 of 1 run(s) fit in 1.00 h with 1 at a time, 0 more start and stop at a checkpoint" in default.stdout
+    dry = campaign(plan, tmp_path / "w1", tmp_path / "r1", "--dry-run", "--budget", "1", "--run-hours", "100",
+                   "--min-slice", "15")
     assert "[stops at a checkpoint when the budget ends]" in dry.stdout, dry.stdout
     assert "0 of 1 run(s) fit in 1.00 h with 1 at a time, 1 more start and stop at a checkpoint" in dry.stdout
     starts = campaign(plan, tmp_path / "w1", tmp_path / "r1", "--budget", budget, "--stop-margin", "0.5",
@@ -334,3 +339,66 @@ def test_the_stage_fields_of_figs_5_and_6_are_kept_and_the_bulky_files_are_not()
     assert all(store.KEEP.match(name) for name in kept)
     assert not any(store.KEEP.match(name) for name in ["timeseries.csv", "bodies.csv", "bodies_shapes.json",
                                                        "checkpoint.state", "stage_fields.csv.partial"])
+
+
+def test_threads_reach_each_engine_and_are_recorded_with_the_same_results(tiny, tmp_path):
+    # The launcher prints the engine's OMP_NUM_THREADS into its log, then runs it.
+    root, _, _ = tiny
+    plan = write_plan(tmp_path, name="threads", seed_list=(1,), angles=(0,))
+    shows_threads = "sh -c 'echo engine threads: $OMP_NUM_THREADS; exec \"$0\" \"$@\"'"
+    done = campaign(plan, tmp_path / "w", tmp_path / "r", *run_args("--threads", "2", "--mpirun", shows_threads))
+    assert "1 at a time on 2 thread(s) each" in done.stdout, done.stdout
+    log = (tmp_path / "w" / "runs" / "theta0" / "seed1" / "engine.log").read_text()
+    assert "engine threads: 2" in log, log
+    p = provenance(tmp_path / "r", "theta0/seed1")
+    assert p["threads"] == 2
+    ledger = json.loads((tmp_path / "w" / "runs" / "theta0" / "seed1" / "ledger.json").read_text())
+    assert [s["threads"] for s in ledger["segments"]] == [2]
+    # The same scene and seed as the one-thread run of the fixture: the same bytes.
+    for name in ("cycles.csv", "run.json"):
+        if name == "run.json":
+            ours = json.loads((tmp_path / "r" / "theta0" / "seed1" / name).read_text())["summary"]
+            theirs = json.loads((root / "results" / "theta0" / "seed1" / name).read_text())["summary"]
+            assert ours == theirs
+        else:
+            assert (tmp_path / "r" / "theta0" / "seed1" / name).read_bytes() == \
+                (root / "results" / "theta0" / "seed1" / name).read_bytes()
+    bad = campaign(plan, tmp_path / "w", tmp_path / "r", "--budget", "1", "--threads", "0", check=False)
+    assert bad.returncode == 2 and "--threads: expected a whole number >= 1 (threads per run), got '0'" in bad.stderr
+
+
+class _Stored:
+    def __init__(self, provenance):
+        self.provenance = provenance
+
+
+class _State:
+    def __init__(self, provenance):
+        self.stored = _Stored(provenance)
+
+
+def test_the_estimate_is_the_stored_runs_cpu_time_scaled_by_the_thread_factor():
+    from campaign_lib import state
+
+    class _Engine:
+        def record(self):
+            return {"engine_tree": "t", "binary_sha256": "b"}
+
+    engine = {"engine_tree": "old", "binary_sha256": "x"}
+    # Two one-thread runs that took 3.0 h of wall beside other work for 2.5 h and 2.4 h
+    # of CPU, and one two-thread run: CPU 2 x 1.6 h of wall, whose one-thread cost is
+    # 1.6 h / 0.63 = 2.54 h.
+    states = [_State({"cpu_seconds": 2.5 * 3600, "wall_seconds": 3.0 * 3600, "engine": engine}),
+              _State({"cpu_seconds": 2.4 * 3600, "wall_seconds": 3.0 * 3600, "engine": engine}),
+              _State({"cpu_seconds": 3.2 * 3600, "wall_seconds": 1.6 * 3600, "threads": 2, "engine": engine})]
+
+    class _Plan:
+        run_cost_hours = 2.0
+    one = state.estimate(_Plan(), states, _Engine(), None)
+    assert one.seconds == pytest.approx(2.5 * 3600) and "median CPU time of 3 stored run(s)" in one.source
+    two = state.estimate(_Plan(), states, _Engine(), None, threads=2)
+    assert two.seconds == pytest.approx(2.5 * 3600 * 0.63) and "x 0.63 on 2 threads" in two.source
+    assert state.one_thread_seconds(states[2].stored.provenance) == pytest.approx(1.6 * 3600 / 0.63)
+    assert state.estimate(_Plan(), [], _Engine(), None, threads=2).seconds == pytest.approx(2.0 * 3600 * 0.63)
+    assert state.estimate(_Plan(), states, _Engine(), 1.5, threads=2).seconds == 1.5 * 3600
+    assert state.thread_factor(1) == 1.0 and state.thread_factor(16) == pytest.approx(0.30625)
