@@ -4,7 +4,7 @@
 //   ratchet run --resume DIR [--quiet]
 //   ratchet pack SCENE.json --out FILE [--set key.path=value ...] [--quiet]
 //   ratchet bodies SCENE.json --out FILE.json [--set key.path=value ...] [--quiet]
-//   ratchet sweep SWEEP.json --out DIR [--jobs N] [--set key.path=value ...]
+//   ratchet sweep SWEEP.json --out DIR [--jobs N] [--threads T] [--set key.path=value ...]
 //   ratchet --version | -V | version,  ratchet help [COMMAND] | --help | -h,  ratchet COMMAND --help
 #include <unistd.h>
 
@@ -59,7 +59,7 @@ const std::map<std::string, std::string> kSynopsis = {
      "  ratchet run --resume DIR [--quiet]\n"},
     {"pack", "  ratchet pack SCENE.json --out FILE [--set key.path=value ...] [--quiet]\n"},
     {"bodies", "  ratchet bodies SCENE.json --out FILE.json [--set key.path=value ...] [--quiet]\n"},
-    {"sweep", "  ratchet sweep SWEEP.json --out DIR [--jobs N] [--set key.path=value ...]\n"},
+    {"sweep", "  ratchet sweep SWEEP.json --out DIR [--jobs N] [--threads T] [--set key.path=value ...]\n"},
     {"help", "  ratchet help [COMMAND]\n"},
     {"version", "  ratchet version\n"},
 };
@@ -80,8 +80,9 @@ const char* kUsage =
     "  ratchet bodies SCENE.json --out FILE.json [--set key.path=value ...] [--quiet]\n"
     "      build the scene as run does and write its bodies and shapes (poses, mass properties,\n"
     "      vertices) to FILE.json\n"
-    "  ratchet sweep SWEEP.json --out DIR [--jobs N] [--set key.path=value ...]\n"
-    "      run every point of a sweep (grid x realizations), N runs at a time (default: all cores);\n"
+    "  ratchet sweep SWEEP.json --out DIR [--jobs N] [--threads T] [--set key.path=value ...]\n"
+    "      run every point of a sweep (grid x realizations), N runs at a time (default: all cores),\n"
+    "      each on T threads (default 1; the same results for any T);\n"
     "      under mpirun -n K the runs are spread over K ranks; writes DIR/packings/, DIR/runs/<id>/,\n"
     "      DIR/summary.csv; --set changes the base scene of every run\n"
     "  ratchet --version | -V | version\n"
@@ -179,8 +180,8 @@ bool launched_by_mpirun() {
 }
 
 // The arguments have been checked (ratchet_cli_main); jobs 0: the default.
-int sweep(const std::string& sweep_path, const std::string& out_dir, int jobs, const std::vector<std::string>& overrides,
-          const std::vector<std::string>& command_line) {
+int sweep(const std::string& sweep_path, const std::string& out_dir, int jobs, int threads,
+          const std::vector<std::string>& overrides, const std::vector<std::string>& command_line) {
   const bool mpi = launched_by_mpirun();
   int rank = 0, size = 1;
   if (mpi) {
@@ -200,19 +201,20 @@ int sweep(const std::string& sweep_path, const std::string& out_dir, int jobs, c
     const std::string who = size > 1 ? "ratchet sweep [rank " + std::to_string(rank) + "]: " : "ratchet sweep: ";
     if (rank == 0)
       std::cerr << who << plan.runs.size() << " runs (" << plan.grid_keys.size() << " grid keys), " << size
-                << " rank(s), " << jobs << " job(s) per rank -> " << out_dir << "\n";
+                << " rank(s), " << jobs << " job(s) per rank, " << threads << " thread(s) per run -> " << out_dir
+                << "\n";
     const auto say = [&](const std::string& line) { std::cerr << who << line << "\n"; };
     // Packings first, spread over the ranks like the runs; all ranks wait for all of them.
     const std::vector<int> needed = ratchet::needed_packings(plan);
     std::vector<int> my_packings;
     for (std::size_t k = 0; k < needed.size(); ++k)
       if (static_cast<int>(k % static_cast<std::size_t>(size)) == rank) my_packings.push_back(needed[k]);
-    if (!plan.packings.empty()) ratchet::make_packings(plan, my_packings, jobs, say);
+    if (!plan.packings.empty()) ratchet::make_packings(plan, my_packings, jobs, say, threads);
     if (mpi) MPI_Barrier(MPI_COMM_WORLD);
     // From here SIGINT/SIGTERM stop each run at a checkpoint (the packings before are
     // written atomically and made again when damaged: a signal there ends the process).
     ratchet::install_stop_handlers();
-    ratchet::run_sweep(plan, mine, jobs, say);
+    ratchet::run_sweep(plan, mine, jobs, say, threads);
     if (const int sig = ratchet::stop_signal(); sig != 0) {
       std::cerr << who << "stopped by " << ratchet::signal_name(sig)
                 << "; the runs under way kept their checkpoints: run the same command again to resume\n";
@@ -504,7 +506,7 @@ int ratchet_cli_main(int argc, char** argv) {
   add_set_option(bodies, bodies_args.overrides);
   bodies->add_flag("--quiet", bodies_args.quiet, "no closing line");
 
-  std::string sweep_file, sweep_out, jobs_text;
+  std::string sweep_file, sweep_out, jobs_text, threads_text;
   std::vector<std::string> sweep_overrides;
   CLI::App* sweep_cmd = app.add_subcommand("sweep", "Run every point of a sweep (grid x realizations) from shared "
                                                     "packings; resumes: complete runs are kept (docs/sweeps.md).");
@@ -516,6 +518,10 @@ int ratchet_cli_main(int argc, char** argv) {
   sweep_cmd->add_option("--jobs", jobs_text,
                         "runs at a time per process, N >= 1 (default: all cores; 1 per rank under mpirun)")
       ->type_name("N");
+  sweep_cmd->add_option("--threads", threads_text,
+                        "OpenMP threads of each run, T >= 1 (default 1); the results are the same bits for any T, "
+                        "so one run can use the cores that jobs would leave idle")
+      ->type_name("T");
   for (CLI::App* sub : {help, version, run, pack, bodies, sweep_cmd}) sub->allow_extras();
 
   const auto command_of = [&]() -> std::string {
@@ -580,11 +586,18 @@ int ratchet_cli_main(int argc, char** argv) {
       if (!n) return usage_error("--jobs: expected a whole number >= 1 (runs at a time), got '" + jobs_text + "'", command);
       jobs = *n;
     }
+    int threads = 1;
+    if (sweep_cmd->count("--threads") > 0) {
+      const std::optional<int> n = positive_int(threads_text);
+      if (!n) return usage_error("--threads: expected a whole number >= 1 (threads per run), got '" + threads_text + "'",
+                                 command);
+      threads = *n;
+    }
     const std::string problem = folder_problem(sweep_out);
     if (!problem.empty())
       return input_error("--out " + sweep_out + ": expected a folder, or a path where one can be created, but " +
                          problem);
-    return sweep(sweep_file, sweep_out, jobs, sweep_overrides, std::vector<std::string>(argv, argv + argc));
+    return sweep(sweep_file, sweep_out, jobs, threads, sweep_overrides, std::vector<std::string>(argv, argv + argc));
   }
   if (command == "bodies") return write_bodies(bodies_args);
   SceneArgs& args = command == "pack" ? pack_args : run_args;

@@ -102,7 +102,7 @@ def parser() -> argparse.ArgumentParser:
     p.add_argument("--jobs", type=whole("--jobs", "runs at a time"), default=1, help="runs at a time (default 1)")
     p.add_argument("--threads", type=whole("--threads", "threads per run"), default=1,
                    help="OpenMP threads of each run (default 1; the results are the same bits for any "
-                        "count): a run then takes about 0.26 + 0.74/THREADS of its one-thread time; keep "
+                        "count): a run then takes about 0.48 + 0.52/THREADS of its one-thread time; keep "
                         "jobs x threads within the cores")
     p.add_argument("--mpirun", nargs="?", const="mpirun -n 1", metavar="LAUNCHER",
                    help="put LAUNCHER before each engine command (default 'mpirun -n 1'; as root "

@@ -173,10 +173,12 @@ class Runner:
         progress = folder.progress()
         command = [*self.launcher, str(self.engine.binary), "sweep", str(folder.sweep_file), "--out",
                    str(folder.out), "--jobs", "1"]
+        if self.threads > 1:   # the sweep runs each run on one thread unless told (engines from 2026-11-28)
+            command += ["--threads", str(self.threads)]
         with open(folder.log, "a") as log:
             log.write(f"\n=== {now_iso()} scripts/campaign: {' '.join(command)}\n")
             log.flush()
-            env = dict(os.environ, OMP_NUM_THREADS=str(self.threads))
+            env = dict(os.environ, OMP_NUM_THREADS=str(self.threads))   # for the pours' and runs' OpenMP
             proc = subprocess.Popen(command, stdout=log, stderr=subprocess.STDOUT, stdin=subprocess.DEVNULL,
                                     pass_fds=(fd,), start_new_session=True, env=env)
         how = "new" if progress.stage in ("not started", "pouring") else f"resumes: {progress.text()}"

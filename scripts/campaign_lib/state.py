@@ -54,10 +54,10 @@ class Estimate:
     source: str
 
 
-# The serial share of a paper-tier step with the coloured parallel sweep: one thread
-# T1, n threads about T1 (s + (1 - s) / n), which gave 1.59 at two threads as measured
-# (docs/performance.md, "The coloured parallel sweep": 0.63 T1 at n = 2).
-SERIAL_SHARE = 0.26
+# The serial share of the paper tier's step (the spring law at eps = 0.01): one thread
+# T1, n threads about T1 (s + (1 - s) / n). Measured on a campaign run resumed on two
+# threads, 0.74 T1 (docs/performance.md, sixteenth installment), so s = 0.48.
+SERIAL_SHARE = 0.48
 
 
 def thread_factor(threads: int) -> float:

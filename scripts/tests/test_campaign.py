@@ -342,14 +342,14 @@ def test_the_stage_fields_of_figs_5_and_6_are_kept_and_the_bulky_files_are_not()
 
 
 def test_threads_reach_each_engine_and_are_recorded_with_the_same_results(tiny, tmp_path):
-    # The launcher prints the engine's OMP_NUM_THREADS into its log, then runs it.
+    # The sweep runs each run on the threads it is given (it set one per run before, so
+    # OMP_NUM_THREADS alone never reached a run), and says so in its log.
     root, _, _ = tiny
     plan = write_plan(tmp_path, name="threads", seed_list=(1,), angles=(0,))
-    shows_threads = "sh -c 'echo engine threads: $OMP_NUM_THREADS; exec \"$0\" \"$@\"'"
-    done = campaign(plan, tmp_path / "w", tmp_path / "r", *run_args("--threads", "2", "--mpirun", shows_threads))
+    done = campaign(plan, tmp_path / "w", tmp_path / "r", *run_args("--threads", "2"))
     assert "1 at a time on 2 thread(s) each" in done.stdout, done.stdout
     log = (tmp_path / "w" / "runs" / "theta0" / "seed1" / "engine.log").read_text()
-    assert "engine threads: 2" in log, log
+    assert "1 job(s) per rank, 2 thread(s) per run" in log and "--threads 2" in log, log
     p = provenance(tmp_path / "r", "theta0/seed1")
     assert p["threads"] == 2
     ledger = json.loads((tmp_path / "w" / "runs" / "theta0" / "seed1" / "ledger.json").read_text())
@@ -386,19 +386,21 @@ def test_the_estimate_is_the_stored_runs_cpu_time_scaled_by_the_thread_factor():
 
     engine = {"engine_tree": "old", "binary_sha256": "x"}
     # Two one-thread runs that took 3.0 h of wall beside other work for 2.5 h and 2.4 h
-    # of CPU, and one two-thread run: CPU 2 x 1.6 h of wall, whose one-thread cost is
-    # 1.6 h / 0.63 = 2.54 h.
+    # of CPU, and one two-thread run: CPU 2 x 1.8 h of wall, whose one-thread cost is
+    # 1.8 h / 0.74 = 2.43 h.
+    factor = state.thread_factor(2)
+    assert factor == pytest.approx(0.74)
     states = [_State({"cpu_seconds": 2.5 * 3600, "wall_seconds": 3.0 * 3600, "engine": engine}),
               _State({"cpu_seconds": 2.4 * 3600, "wall_seconds": 3.0 * 3600, "engine": engine}),
-              _State({"cpu_seconds": 3.2 * 3600, "wall_seconds": 1.6 * 3600, "threads": 2, "engine": engine})]
+              _State({"cpu_seconds": 3.6 * 3600, "wall_seconds": 1.8 * 3600, "threads": 2, "engine": engine})]
 
     class _Plan:
         run_cost_hours = 2.0
     one = state.estimate(_Plan(), states, _Engine(), None)
-    assert one.seconds == pytest.approx(2.5 * 3600) and "median CPU time of 3 stored run(s)" in one.source
+    assert one.seconds == pytest.approx(1.8 * 3600 / 0.74) and "median CPU time of 3 stored run(s)" in one.source
     two = state.estimate(_Plan(), states, _Engine(), None, threads=2)
-    assert two.seconds == pytest.approx(2.5 * 3600 * 0.63) and "x 0.63 on 2 threads" in two.source
-    assert state.one_thread_seconds(states[2].stored.provenance) == pytest.approx(1.6 * 3600 / 0.63)
-    assert state.estimate(_Plan(), [], _Engine(), None, threads=2).seconds == pytest.approx(2.0 * 3600 * 0.63)
+    assert two.seconds == pytest.approx(1.8 * 3600) and "x 0.74 on 2 threads" in two.source
+    assert state.one_thread_seconds(states[2].stored.provenance) == pytest.approx(1.8 * 3600 / 0.74)
+    assert state.estimate(_Plan(), [], _Engine(), None, threads=2).seconds == pytest.approx(2.0 * 3600 * 0.74)
     assert state.estimate(_Plan(), states, _Engine(), 1.5, threads=2).seconds == 1.5 * 3600
-    assert state.thread_factor(1) == 1.0 and state.thread_factor(16) == pytest.approx(0.30625)
+    assert state.thread_factor(1) == 1.0 and state.thread_factor(16) == pytest.approx(0.48 + 0.52 / 16)

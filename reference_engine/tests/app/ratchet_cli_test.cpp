@@ -314,7 +314,8 @@ TEST(RatchetCli, HelpOfTheProgramAndOfEachCommandOnStdout) {
                "--set key.path=value", "--explain", "--quiet", "--progress-every SECONDS"}},
       {"pack", {"ratchet pack SCENE.json --out FILE", "--out FILE", "--set key.path=value", "--quiet"}},
       {"bodies", {"ratchet bodies SCENE.json --out FILE.json", "--out FILE.json", "--set key.path=value", "--quiet"}},
-      {"sweep", {"ratchet sweep SWEEP.json --out DIR [--jobs N]", "--out DIR", "--jobs N", "--set key.path=value"}},
+      {"sweep", {"ratchet sweep SWEEP.json --out DIR [--jobs N]", "--out DIR", "--jobs N", "--threads T",
+                 "--set key.path=value"}},
   };
   for (const auto& [command, texts] : commands) {
     for (const char* flag : {" --help", " -h"}) {
@@ -376,6 +377,19 @@ TEST(RatchetCli, JobsMustBeAWholeNumberOfAtLeastOne) {
   EXPECT_THAT(run("sweep " + sweep + " --out " + out + " --jobs=2x").output, HasSubstr("got '2x'"));
   EXPECT_THAT(run("sweep " + sweep + " --out " + out + " --jobs").output, HasSubstr("ratchet: --jobs needs a value"));
   EXPECT_FALSE(fs::exists(out));
+  fs::remove_all(d);
+}
+
+TEST(RatchetCli, ThreadsPerRunMustBeAWholeNumberOfAtLeastOne) {
+  const fs::path d = scratch();
+  const std::string sweep = write_sweep(d), out = (d / "o").string();
+  for (const char* threads : {"2x", "0", "-1", "1.5"}) {
+    const Result r = run("sweep " + sweep + " --out " + out + " --threads " + threads);
+    EXPECT_EQ(r.status, 2) << threads << ": " << r.output;
+    EXPECT_THAT(r.output, HasSubstr("ratchet: --threads: expected a whole number >= 1 (threads per run), got '"))
+        << threads;
+    EXPECT_FALSE(fs::exists(out)) << threads;  // refused before any work
+  }
   fs::remove_all(d);
 }
 

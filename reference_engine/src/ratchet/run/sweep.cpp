@@ -220,7 +220,7 @@ std::vector<int> needed_packings(const SweepPlan& plan) {
 }
 
 void make_packings(const SweepPlan& plan, const std::vector<int>& indices, int jobs,
-                   const std::function<void(const std::string&)>& progress) {
+                   const std::function<void(const std::string&)>& progress, int threads_per_run) {
   std::vector<int> todo;
   std::mutex mutex;
   for (int i : indices) {
@@ -240,7 +240,7 @@ void make_packings(const SweepPlan& plan, const std::vector<int>& indices, int j
   std::atomic<std::size_t> next{0};
   auto worker = [&]() {
 #ifdef _OPENMP
-    omp_set_num_threads(1);
+    omp_set_num_threads(threads_per_run);
 #endif
     for (std::size_t k = next++; k < todo.size(); k = next++) {
       const SweepPacking& p = plan.packings[static_cast<std::size_t>(todo[k])];
@@ -270,7 +270,7 @@ void make_packings(const SweepPlan& plan, const std::vector<int>& indices, int j
 }
 
 void run_sweep(const SweepPlan& plan, const std::vector<int>& ids, int jobs,
-               const std::function<void(const std::string&)>& progress) {
+               const std::function<void(const std::string&)>& progress, int threads_per_run) {
   std::vector<int> todo;
   for (int id : ids)
     if (!run_completed(plan, plan.runs[static_cast<std::size_t>(id)])) todo.push_back(id);
@@ -284,7 +284,7 @@ void run_sweep(const SweepPlan& plan, const std::vector<int>& ids, int jobs,
   const auto start = std::chrono::steady_clock::now();
   auto worker = [&]() {
 #ifdef _OPENMP
-    omp_set_num_threads(1);  // parallel over runs, not inside them
+    omp_set_num_threads(threads_per_run);  // parallel over runs, and inside each as asked
 #endif
     for (std::size_t k = next++; k < todo.size() && stop_signal() == 0; k = next++) {
       const SweepRun& run = plan.runs[static_cast<std::size_t>(todo[k])];

@@ -67,16 +67,18 @@ bool packing_ready(const SweepPlan& plan, const SweepPacking& packing);
 // Indices into plan.packings of the packings that some run not yet completed needs.
 std::vector<int> needed_packings(const SweepPlan& plan);
 
-// Makes the given packings (indices into plan.packings) on `jobs` threads, skipping
-// those already made; a half-written one (only a .partial file) is made again.
+// Makes the given packings (indices into plan.packings) on `jobs` threads, each pour on
+// `threads_per_run` OpenMP threads, skipping those already made; a half-written one
+// (only a .partial file) is made again.
 void make_packings(const SweepPlan& plan, const std::vector<int>& indices, int jobs,
-                   const std::function<void(const std::string&)>& progress);
+                   const std::function<void(const std::string&)>& progress, int threads_per_run = 1);
 
-// Runs the given run ids on `jobs` threads (each run single-threaded), skipping
-// completed ones. A run with a packing key starts from its packing, which must have
-// been made (make_packings) before. `progress` is called after each run with a line to show.
+// Runs the given run ids on `jobs` threads (each run on `threads_per_run` OpenMP threads:
+// the same bits for any count), skipping completed ones. A run with a packing key starts
+// from its packing, which must have been made (make_packings) before. `progress` is
+// called after each run with a line to show.
 void run_sweep(const SweepPlan& plan, const std::vector<int>& ids, int jobs,
-               const std::function<void(const std::string&)>& progress);
+               const std::function<void(const std::string&)>& progress, int threads_per_run = 1);
 
 // Writes DIR/summary.csv (deterministic: no timings) and DIR/timings.csv from the
 // run.json files. Runs without a completed run.json get status "missing".
