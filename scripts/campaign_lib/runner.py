@@ -20,7 +20,7 @@ from common.paths import REPO_ROOT
 from . import store
 from .engine import Engine, file_sha256
 from .plan import Plan, same_json
-from .state import RunState, hours
+from .state import RunState, hours, one_thread_cpu
 from .workdir import collect_packings, share_packings
 
 POLL_SECONDS = 0.5
@@ -271,8 +271,11 @@ class Runner:
             "cpu_seconds": round(sum(s["cpu_seconds"] for s in segments), 1),
             "wall_seconds": round(sum(s["wall_seconds"] for s in segments), 1),
             "engine_wall_seconds": run_json.get("wall_seconds"),
-            # The most threads a segment ran on (older segments did not say: one).
+            # The most threads a segment ran on (older segments did not say: one), and what
+            # the run would have cost on one thread, segment by segment (state.py).
             "threads": max((s.get("threads", 1) for s in segments), default=1),
+            "one_thread_seconds": round(sum(one_thread_cpu(s["cpu_seconds"], s.get("threads", 1))
+                                            for s in segments), 1),
             "steps": run_json.get("steps"),
         }
         where = store.store(self.results, run, folder.run_dir, provenance)

@@ -66,18 +66,27 @@ def thread_factor(threads: int) -> float:
     return SERIAL_SHARE + (1.0 - SERIAL_SHARE) / max(1, threads)
 
 
+def one_thread_cpu(cpu_seconds: float, threads: int) -> float:
+    """What CPU time spent on `threads` threads would have been on one: a run on n threads
+    spends about n times its wall in CPU (OpenMP's threads wait busy), so its one-thread
+    cost is its CPU over n, over the thread factor."""
+    threads = threads if isinstance(threads, int) and threads >= 1 else 1
+    return float(cpu_seconds) / threads / thread_factor(threads)
+
+
 def one_thread_seconds(provenance: dict) -> float | None:
     """What a stored run cost on one free core: its CPU seconds, which unlike its wall
     time do not grow when other work shares the machine (the first paper runs took
-    3.0 h of wall for 2.5 h of CPU beside other runs). A run on n threads spent about n
-    times its wall in CPU (OpenMP's threads wait busy), so its one-thread cost is its
-    CPU over n, over the thread factor."""
+    3.0 h of wall for 2.5 h of CPU beside other runs); for runs on several threads the
+    sum over its segments stored with it (one_thread_seconds), else one_thread_cpu of
+    the whole."""
+    stored = provenance.get("one_thread_seconds")
+    if isinstance(stored, (int, float)) and stored > 0:
+        return float(stored)
     cpu = provenance.get("cpu_seconds")
     if not isinstance(cpu, (int, float)) or cpu <= 0:
         return None
-    threads = provenance.get("threads", 1)
-    threads = threads if isinstance(threads, int) and threads >= 1 else 1
-    return float(cpu) / threads / thread_factor(threads)
+    return one_thread_cpu(cpu, provenance.get("threads", 1))
 
 
 def estimate(plan: Plan, states: list, engine: Engine, override_hours: float | None,

@@ -352,6 +352,7 @@ def test_threads_reach_each_engine_and_are_recorded_with_the_same_results(tiny, 
     assert "1 job(s) per rank, 2 thread(s) per run" in log and "--threads 2" in log, log
     p = provenance(tmp_path / "r", "theta0/seed1")
     assert p["threads"] == 2
+    assert p["one_thread_seconds"] == pytest.approx(p["cpu_seconds"] / 2 / 0.74, abs=0.1)
     ledger = json.loads((tmp_path / "w" / "runs" / "theta0" / "seed1" / "ledger.json").read_text())
     assert [s["threads"] for s in ledger["segments"]] == [2]
     # The same scene and seed as the one-thread run of the fixture: the same bytes.
@@ -403,4 +404,6 @@ def test_the_estimate_is_the_stored_runs_cpu_time_scaled_by_the_thread_factor():
     assert state.one_thread_seconds(states[2].stored.provenance) == pytest.approx(1.8 * 3600 / 0.74)
     assert state.estimate(_Plan(), [], _Engine(), None, threads=2).seconds == pytest.approx(2.0 * 3600 * 0.74)
     assert state.estimate(_Plan(), states, _Engine(), 1.5, threads=2).seconds == 1.5 * 3600
+    # A run of one- and two-thread segments stores its one-thread cost summed by segment.
+    assert state.one_thread_seconds({"cpu_seconds": 9.0, "threads": 2, "one_thread_seconds": 7.0}) == 7.0
     assert state.thread_factor(1) == 1.0 and state.thread_factor(16) == pytest.approx(0.48 + 0.52 / 16)
