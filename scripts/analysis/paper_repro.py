@@ -28,6 +28,7 @@ from types import SimpleNamespace
 from campaign_lib import store
 from campaign_lib.assemble import assemble, lookup
 from campaign_lib.plan import Plan, PlanError, load_plan, same_json
+from campaign_lib.state import one_thread_seconds
 from common.figures import figure_caption
 from common.fsutil import write_atomic
 from common.paths import REPO_ROOT
@@ -256,8 +257,9 @@ def survey(plan: Plan, results: Path) -> Runs:
                            "used; the campaign reruns it")
             continue
         used[run.label] = stored
-    cpu = [s.provenance.get("cpu_seconds") for s in used.values()]
-    cpu = [float(c) for c in cpu if isinstance(c, (int, float)) and not isinstance(c, bool) and c > 0]
+    # A run's one-thread CPU time, as the campaign estimates it (a run resumed on two
+    # threads spent twice its wall in CPU).
+    cpu = [c for c in (one_thread_seconds(s.provenance) for s in used.values()) if c is not None]
     if cpu:
         seconds, source = statistics.median(cpu), f"the median of {len(cpu)} stored run(s)"
     else:

@@ -178,7 +178,7 @@ class Runner:
         with open(folder.log, "a") as log:
             log.write(f"\n=== {now_iso()} scripts/campaign: {' '.join(command)}\n")
             log.flush()
-            env = dict(os.environ, OMP_NUM_THREADS=str(self.threads))   # for the pours' and runs' OpenMP
+            env = dict(os.environ, OMP_NUM_THREADS="1")   # the sweep sets each run's threads (--threads)
             proc = subprocess.Popen(command, stdout=log, stderr=subprocess.STDOUT, stdin=subprocess.DEVNULL,
                                     pass_fds=(fd,), start_new_session=True, env=env)
         how = "new" if progress.stage in ("not started", "pouring") else f"resumes: {progress.text()}"
