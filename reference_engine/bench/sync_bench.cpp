@@ -31,18 +31,26 @@ BENCHMARK(BM_Barrier)->Arg(2)->UseRealTime()->Unit(benchmark::kMillisecond);
 // store before its own (a ping-pong), so a round trip is two transfers of the line.
 void BM_LineRoundTrip(benchmark::State& state) {
   alignas(64) std::atomic<int> flag{0};
+  bool two = true;
   for (auto _ : state) {
     flag.store(0);
 #pragma omp parallel num_threads(2)
     {
       const int me = omp_get_thread_num();
-      if (omp_get_num_threads() == 2)
+      if (omp_get_num_threads() != 2) {
+        two = false;  // one thread would wait for itself
+      } else {
         for (int i = 0; i < kRounds; ++i) {
           const int mine = 2 * i + me;  // thread 0 moves on even values, thread 1 on odd
           while (flag.load(std::memory_order_acquire) != mine) {
           }
           flag.store(mine + 1, std::memory_order_release);
         }
+      }
+    }
+    if (!two) {
+      state.SkipWithError("OpenMP gave fewer than 2 threads (OMP_NUM_THREADS, OMP_THREAD_LIMIT)");
+      break;
     }
   }
   state.counters["us_per_round_trip"] =
