@@ -12,9 +12,13 @@ from pathlib import Path
 from common.paths import REPO_ROOT
 from ratchet import ProgramNotFound, command, program
 
-#: What the engine is built from. The repository's HEAD moves with every stored result
-#: (--commit), so the engine is named by the last commit that touched these instead.
-ENGINE_SOURCES = ("reference_engine", "CMakeLists.txt")
+#: What the `ratchet` binary is built from. The repository's HEAD moves with every stored
+#: result (--commit), so the engine is named by the last commit that touched these instead.
+#: The engine's tests, benchmarks, fuzz targets and Python bindings are left out: a new
+#: benchmark does not make a new engine (reference_engine/CMakeLists.txt, which is in,
+#: changes when a folder starts feeding the binary).
+ENGINE_SOURCES = ("reference_engine/src", "reference_engine/app", "reference_engine/cmake",
+                  "reference_engine/CMakeLists.txt", "CMakeLists.txt")
 
 
 class EngineError(Exception):

@@ -5,7 +5,8 @@ provenance; a second invocation runs nothing; a budget that ends mid-run leaves 
 that the next invocation completes with the bytes of an uninterrupted run; stale results
 are rerun and results of an engine that passed the golden check are reused (also after a
 recheck of its binary on newer golden data); bad plans
-are refused naming the file and the field; --assemble gives sweep folders that
+are refused naming the file and the field; the engine id ignores the engine's tests and
+benchmarks; --assemble gives sweep folders that
 scripts/analysis/inputs.py reads; --commit commits each stored run."""
 
 from __future__ import annotations
@@ -23,7 +24,7 @@ sys.path.insert(0, str(SCRIPTS))
 
 from analysis.inputs import load_sweep, read_cycles, displacement_files  # noqa: E402
 from campaign_lib import golden  # noqa: E402
-from campaign_lib.engine import file_sha256, identify  # noqa: E402
+from campaign_lib.engine import ENGINE_SOURCES, file_sha256, identify, sources_state  # noqa: E402
 from common.paths import REPO_ROOT, engine_binary  # noqa: E402
 
 RATCHET = engine_binary()
@@ -404,3 +405,29 @@ def test_the_estimate_is_the_stored_runs_cpu_time_scaled_by_the_thread_factor():
     # A run of one- and two-thread segments stores its one-thread cost summed by segment.
     assert state.one_thread_seconds({"cpu_seconds": 9.0, "threads": 2, "one_thread_seconds": 7.0}) == 7.0
     assert state.thread_factor(1) == 1.0 and state.thread_factor(16) == pytest.approx(0.48 + 0.52 / 16)
+
+
+def test_the_engine_id_follows_the_binary_sources_not_its_tests_or_benchmarks(tmp_path):
+    def commit(path, text):
+        (tmp_path / path).parent.mkdir(parents=True, exist_ok=True)
+        (tmp_path / path).write_text(text)
+        subprocess.run(["git", "-C", str(tmp_path), "add", "-A"], check=True)
+        subprocess.run(["git", "-C", str(tmp_path), "-c", "user.name=t", "-c", "user.email=t@t", "commit",
+                        "-qm", path], check=True)
+        return sources_state(ENGINE_SOURCES, repo=tmp_path)
+
+    subprocess.run(["git", "init", "-q", str(tmp_path)], check=True)
+    for path in ENGINE_SOURCES:
+        file = tmp_path / (path if path.endswith(".txt") else f"{path}/a.cpp")
+        file.parent.mkdir(parents=True, exist_ok=True)
+        file.write_text("# engine\n")
+    first = commit("reference_engine/tests/t.cpp", "// test\n")
+    assert first["commit"] and first["tree"] and not first["dirty"]
+    assert commit("reference_engine/bench/b.cpp", "// bench\n") == first
+    assert commit("reference_engine/tests/t.cpp", "// test, changed\n") == first
+    (tmp_path / "reference_engine/bench/b.cpp").write_text("// uncommitted\n")
+    assert sources_state(ENGINE_SOURCES, repo=tmp_path) == first
+    changed = commit("reference_engine/src/a.cpp", "// engine, changed\n")
+    assert changed["tree"] != first["tree"] and changed["commit"] != first["commit"]
+    (tmp_path / "reference_engine/app/new.cpp").write_text("// untracked\n")
+    assert sources_state(ENGINE_SOURCES, repo=tmp_path)["dirty"]
