@@ -19,6 +19,7 @@ from common.paths import REPO_ROOT
 
 from . import store
 from .engine import Engine, file_sha256
+from .pace import Pace
 from .plan import Plan, same_json
 from .state import RunState, hours, one_thread_cpu
 from .workdir import collect_packings, share_packings
@@ -46,6 +47,7 @@ class Active:
     started: float
     started_iso: str
     stopping: bool = False
+    pace: Pace = field(default_factory=Pace)  # its step at each progress report
 
 
 @dataclass
@@ -185,8 +187,11 @@ class Runner:
         stale = f"; rerun of a stale result ({state.verdict.reason})" if state.stale else ""
         self.say(f"start {state.run.label} ({how}{stale}); {hours(self.left())} of the budget left; "
                  f"log {folder.log}")
-        return Active(state=state, proc=proc, lock_fd=fd, command=command, started=time.monotonic(),
+        item = Active(state=state, proc=proc, lock_fd=fd, command=command, started=time.monotonic(),
                       started_iso=now_iso())
+        if how != "new":   # a resumed run goes on from its checkpoint: the first window's pace counts from there
+            item.pace.add(item.started, progress.checkpoint)
+        return item
 
     def _stored_meanwhile(self, state: RunState) -> bool:
         """A current result of the run in the results folder now, though there was none when
@@ -309,5 +314,7 @@ class Runner:
     def _report(self, active: dict) -> None:
         for item in active.values():
             progress = item.state.folder.progress()
+            item.pace.add(time.monotonic(), progress.step)
             self.say(f"progress {item.state.run.label}: {progress.text()}, {hours(time.monotonic() - item.started)} "
-                     f"so far; {hours(self.left())} of the budget left")
+                     f"so far; {hours(self.left())} of the budget left"
+                     f"{item.pace.text(progress.total, self.left())}")

@@ -6,7 +6,7 @@ that the next invocation completes with the bytes of an uninterrupted run; stale
 are rerun and results of an engine that passed the golden check are reused (also after a
 recheck of its binary on newer golden data); bad plans
 are refused naming the file and the field; the engine id ignores the engine's tests and
-benchmarks; --assemble gives sweep folders that
+benchmarks; the progress report gives the pace and warns when it falls; --assemble gives sweep folders that
 scripts/analysis/inputs.py reads; --commit commits each stored run."""
 
 from __future__ import annotations
@@ -431,3 +431,22 @@ def test_the_engine_id_follows_the_binary_sources_not_its_tests_or_benchmarks(tm
     assert changed["tree"] != first["tree"] and changed["commit"] != first["commit"]
     (tmp_path / "reference_engine/app/new.cpp").write_text("// untracked\n")
     assert sources_state(ENGINE_SOURCES, repo=tmp_path)["dirty"]
+
+
+def test_the_progress_report_gives_the_pace_the_time_to_go_and_warns_when_the_pace_falls():
+    from campaign_lib.pace import Pace
+    pace = Pace()
+    pace.add(0.0, 1000)
+    assert pace.text(total=100_000, left_seconds=3600.0) == ""        # one mark: no pace yet
+    pace.add(600.0, 13_000)                                             # 1200 steps a minute
+    first = pace.text(total=100_000, left_seconds=7200.0)
+    assert "1200 steps a minute" in first and "about 1.21 h to go" in first and "(within the budget)" in first
+    assert "WARNING" not in first
+    assert "not within the budget" in pace.text(total=100_000, left_seconds=3600.0)
+    pace.add(1200.0, 23_000)            # 1000 a minute: a cheaper or dearer stage, not a crowded core
+    assert "WARNING" not in pace.text(total=100_000, left_seconds=7200.0)
+    pace.add(1800.0, 26_000)            # 300 a minute: a quarter of the best, as beside a job at nice 0
+    slow = pace.text(total=100_000, left_seconds=7200.0)
+    assert "300 steps a minute" in slow and "WARNING: the pace fell to 0.25" in slow and "nice -n 19" in slow
+    pace.add(2400.0, None)              # no step read (the engine between files): no mark
+    assert len(pace.marks) == 4

@@ -1,0 +1,50 @@
+"""A running run's pace between progress reports: steps a minute, the time it still needs
+at that pace, and a warning when the pace falls far below the run's best in this
+invocation (docs/campaign.md, "Working beside a run": a run on two threads slows about
+four times beside a job of the same priority)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+from .state import hours
+
+#: Below this share of the run's best pace in this invocation the report warns. A report
+#: spans 10 minutes by default, more than one thermal cycle of the paper bed (6 minutes),
+#: so the stages' own costs (a hold is about four times cheaper than a ramp) average out
+#: and differ between windows by well under a half; the crowded case is a quarter.
+SLOW_SHARE = 0.5
+
+
+@dataclass
+class Pace:
+    """(seconds, step) at each report of one run."""
+    marks: list = field(default_factory=list)
+
+    def add(self, seconds: float, step: int | None) -> None:
+        if step is not None:
+            self.marks.append((seconds, step))
+
+    def rates(self) -> list:
+        """Steps a second between successive marks that both have a step and a gap."""
+        return [(b - a) / (t1 - t0) for (t0, a), (t1, b) in zip(self.marks, self.marks[1:]) if t1 > t0]
+
+    def text(self, total: int | None, left_seconds: float) -> str:
+        """'' before two marks; else the last window's pace, what it implies for the run's
+        end against the budget left, and the warning when the pace fell."""
+        rates = self.rates()
+        if not rates:
+            return ""
+        rate = rates[-1]
+        out = f"; {60.0 * rate:.0f} steps a minute since the last report"
+        step = self.marks[-1][1]
+        if total and rate > 0.0:
+            need = (total - step) / rate
+            verdict = "within the budget" if need <= left_seconds else \
+                "not within the budget: it stops at a checkpoint"
+            out += f", about {hours(need)} to go at that pace ({verdict})"
+        best = max(rates)
+        if len(rates) >= 2 and rate < SLOW_SHARE * best:
+            out += (f"; WARNING: the pace fell to {rate / best:.2f} of its best in this invocation: other work "
+                    "on the cores? Run it at nice -n 19 (docs/campaign.md, Working beside a run)")
+        return out
