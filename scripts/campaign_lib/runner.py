@@ -314,7 +314,7 @@ class Runner:
     def _report(self, active: dict) -> None:
         for item in active.values():
             progress = item.state.folder.progress()
-            item.pace.add(time.monotonic(), progress.step)
-            self.say(f"progress {item.state.run.label}: {progress.text()}, {hours(time.monotonic() - item.started)} "
-                     f"so far; {hours(self.left())} of the budget left"
-                     f"{item.pace.text(progress.total, self.left())}")
+            now, left = time.monotonic(), self.left()
+            item.pace.add(now, progress.step)
+            self.say(f"progress {item.state.run.label}: {progress.text()}, {hours(now - item.started)} "
+                     f"so far; {hours(left)} of the budget left{item.pace.text(progress.total, left)}")
