@@ -46,5 +46,6 @@ class Pace:
         best = max(rates)
         if len(rates) >= 2 and rate < SLOW_SHARE * best:
             out += (f"; WARNING: the pace fell to {rate / best:.2f} of its best in this invocation: other work "
-                    "on the cores? Run it at nice -n 19 (docs/campaign.md, Working beside a run)")
+                    "on the cores? Run it at nice -n 19 from the campaign's session, or lower its own session's "
+                    "share (docs/campaign.md, Working beside a run)")
         return out

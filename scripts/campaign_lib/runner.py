@@ -25,6 +25,13 @@ from .state import RunState, hours, one_thread_cpu
 from .workdir import collect_packings, share_packings
 
 POLL_SECONDS = 0.5
+# The engine's process: a process group of its own, so that the budget's SIGKILL reaches it
+# and its MPI ranks (os.killpg) and a terminal's Ctrl-C reaches only the campaign, which
+# stops the runs at a checkpoint; but the campaign's session, not a new one: the kernel's
+# autogroup scheduler (sched_autogroup_enabled) shares the cores among sessions first and
+# honours nice only within one, so an engine in a session of its own made `nice -n 19`
+# work beside it compete as an equal (docs/campaign.md, "Working beside a run").
+ENGINE_PROCESS = {"process_group": 0}
 
 
 def now_iso() -> str:
@@ -182,7 +189,7 @@ class Runner:
             log.flush()
             env = dict(os.environ, OMP_NUM_THREADS="1")   # the sweep sets each run's threads (--threads)
             proc = subprocess.Popen(command, stdout=log, stderr=subprocess.STDOUT, stdin=subprocess.DEVNULL,
-                                    pass_fds=(fd,), start_new_session=True, env=env)
+                                    pass_fds=(fd,), env=env, **ENGINE_PROCESS)
         how = "new" if progress.stage in ("not started", "pouring") else f"resumes: {progress.text()}"
         stale = f"; rerun of a stale result ({state.verdict.reason})" if state.stale else ""
         self.say(f"start {state.run.label} ({how}{stale}); {hours(self.left())} of the budget left; "

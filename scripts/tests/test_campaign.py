@@ -450,3 +450,22 @@ def test_the_progress_report_gives_the_pace_the_time_to_go_and_warns_when_the_pa
     assert "300 steps a minute" in slow and "WARNING: the pace fell to 0.25" in slow and "nice -n 19" in slow
     pace.add(2400.0, None)              # no step read (the engine between files): no mark
     assert len(pace.marks) == 4
+
+
+def test_the_engine_runs_in_the_campaigns_session_in_a_process_group_of_its_own():
+    # Its own group: the budget's os.killpg reaches it (and its MPI ranks), a terminal's
+    # Ctrl-C does not. The campaign's session: the autogroup scheduler honours nice only
+    # within a session, so work started beside it at nice 19 must share its session (an
+    # engine in a session of its own ran at a quarter of its pace beside such work).
+    import os
+    from campaign_lib.runner import ENGINE_PROCESS
+    child = subprocess.Popen(["sleep", "30"], **ENGINE_PROCESS)
+    try:
+        assert os.getpgid(child.pid) == child.pid != os.getpgid(0)
+        assert os.getsid(child.pid) == os.getsid(0)
+        ours, theirs = Path("/proc/self/autogroup"), Path(f"/proc/{child.pid}/autogroup")
+        if ours.is_file():   # kernels built with CONFIG_SCHED_AUTOGROUP
+            assert theirs.read_text().split()[0] == ours.read_text().split()[0]
+    finally:
+        child.kill()
+        child.wait()
