@@ -89,11 +89,17 @@ def one_thread_seconds(provenance: dict) -> float | None:
     return one_thread_cpu(cpu, provenance.get("threads", 1))
 
 
+# The current engine's own runs make the estimate only from this many on: one run slowed
+# by work beside it (its CPU time then undercounts a two-thread run's work) is no median.
+# Seen 2026-11-28: one such run made the estimate 1.42 h against about 2 h.
+MIN_OWN_RUNS = 3
+
+
 def estimate(plan: Plan, states: list, engine: Engine, override_hours: float | None,
              threads: int = 1) -> Estimate:
     """Wall seconds of one run on `threads` threads and a free core each (what --budget
     schedules by): --run-hours, else the median of the stored runs' one-thread cost
-    (those of the current engine when there are any) times the thread factor, else the
+    (those of the current engine when there are MIN_OWN_RUNS) times the thread factor, else the
     plan's run_cost_hours times the thread factor."""
     if override_hours is not None:
         return Estimate(override_hours * 3600.0, "--run-hours")
@@ -103,6 +109,8 @@ def estimate(plan: Plan, states: list, engine: Engine, override_hours: float | N
                 for s in states if s.stored]
     measured = [(c, e) for c, e in measured if c is not None]
     mine = [c for c, e in measured if same_engine(e, engine.record())]
+    if len(mine) < MIN_OWN_RUNS:
+        mine = []
     use = mine or [c for c, _ in measured]
     if use:
         which = "current engine's" if mine else "stored"

@@ -402,6 +402,13 @@ def test_the_estimate_is_the_stored_runs_cpu_time_scaled_by_the_thread_factor():
     assert state.one_thread_seconds(states[2].stored.provenance) == pytest.approx(1.8 * 3600 / 0.74)
     assert state.estimate(_Plan(), [], _Engine(), None, threads=2).seconds == pytest.approx(2.0 * 3600 * 0.74)
     assert state.estimate(_Plan(), states, _Engine(), 1.5, threads=2).seconds == 1.5 * 3600
+    # The current engine's runs count alone from MIN_OWN_RUNS on: one fast run of it is no median.
+    current = {"engine_tree": "t", "binary_sha256": "b"}
+    own = [_State({"cpu_seconds": 1.0 * 3600, "engine": current})]
+    assert state.estimate(_Plan(), states + own, _Engine(), None).seconds == pytest.approx((2.4 + 1.8 / 0.74) / 2 * 3600)
+    own = [_State({"cpu_seconds": h * 3600, "engine": current}) for h in (1.0, 1.1, 1.2)]
+    mine = state.estimate(_Plan(), states + own, _Engine(), None)
+    assert mine.seconds == pytest.approx(1.1 * 3600) and "3 current engine's run(s)" in mine.source
     # A run of one- and two-thread segments stores its one-thread cost summed by segment.
     assert state.one_thread_seconds({"cpu_seconds": 9.0, "threads": 2, "one_thread_seconds": 7.0}) == 7.0
     assert state.thread_factor(1) == 1.0 and state.thread_factor(16) == pytest.approx(0.48 + 0.52 / 16)
