@@ -25,12 +25,9 @@ from .state import RunState, hours, one_thread_cpu
 from .workdir import collect_packings, share_packings
 
 POLL_SECONDS = 0.5
-# The engine's process: a process group of its own, so that the budget's SIGKILL reaches it
-# and its MPI ranks (os.killpg) and a terminal's Ctrl-C reaches only the campaign, which
-# stops the runs at a checkpoint; but the campaign's session, not a new one: the kernel's
-# autogroup scheduler (sched_autogroup_enabled) shares the cores among sessions first and
-# honours nice only within one, so an engine in a session of its own made `nice -n 19`
-# work beside it compete as an equal (docs/campaign.md, "Working beside a run").
+# The engine gets a process group of its own (os.killpg at the budget's end; a terminal's
+# Ctrl-C reaches only the campaign) but stays in the campaign's session: the autogroup
+# scheduler honours nice only within a session (docs/campaign.md, "Working beside a run").
 ENGINE_PROCESS = {"process_group": 0}
 
 

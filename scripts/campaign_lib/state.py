@@ -99,7 +99,7 @@ def estimate(plan: Plan, states: list, engine: Engine, override_hours: float | N
              threads: int = 1) -> Estimate:
     """Wall seconds of one run on `threads` threads and a free core each (what --budget
     schedules by): --run-hours, else the median of the stored runs' one-thread cost
-    (those of the current engine when there are MIN_OWN_RUNS) times the thread factor, else the
+    (those of the current engine once there are MIN_OWN_RUNS) times the thread factor, else the
     plan's run_cost_hours times the thread factor."""
     if override_hours is not None:
         return Estimate(override_hours * 3600.0, "--run-hours")

@@ -6,12 +6,14 @@ that the next invocation completes with the bytes of an uninterrupted run; stale
 are rerun and results of an engine that passed the golden check are reused (also after a
 recheck of its binary on newer golden data); bad plans
 are refused naming the file and the field; the engine id ignores the engine's tests and
-benchmarks; the progress report gives the pace and warns when it falls; --assemble gives sweep folders that
+benchmarks; the progress report gives the pace and warns when it falls; the engine runs in the
+campaign's session in a process group of its own; --assemble gives sweep folders that
 scripts/analysis/inputs.py reads; --commit commits each stored run."""
 
 from __future__ import annotations
 
 import json
+import os
 import shutil
 import subprocess
 import sys
@@ -460,11 +462,8 @@ def test_the_progress_report_gives_the_pace_the_time_to_go_and_warns_when_the_pa
 
 
 def test_the_engine_runs_in_the_campaigns_session_in_a_process_group_of_its_own():
-    # Its own group: the budget's os.killpg reaches it (and its MPI ranks), a terminal's
-    # Ctrl-C does not. The campaign's session: the autogroup scheduler honours nice only
-    # within a session, so work started beside it at nice 19 must share its session (an
-    # engine in a session of its own ran at a quarter of its pace beside such work).
-    import os
+    # An engine in a session of its own ran at about a ninth of its pace beside a nice-19
+    # job (docs/performance.md, nineteenth installment).
     from campaign_lib.runner import ENGINE_PROCESS
     child = subprocess.Popen(["sleep", "30"], **ENGINE_PROCESS)
     try:
