@@ -594,9 +594,8 @@ def _toroidal_checks(a, points, trends) -> list:
 def _trend_check(a, points, trends, check_id: str, key: str, direction: str) -> list:
     """A slope of a per-run number against the swept parameter over all runs, with the
     rules of trends._slope_check: "decrease"/"increase": passed beyond k SE on the paper's
-    side, the other side resolved is against(tier), else not resolved; "flat": |slope|
-    > k SE is against(tier), within it passed only when k SE x range is at most
-    FLAT_RESOLUTION of the mean, else not resolved."""
+    side, the other side resolved is against(tier), else not resolved; "flat" (only the
+    steady V/V0): trends.flat_verdict against the bed's compaction 1 - V/V0."""
     d = trends.CHECKS[check_id]
     p = d.params(a.tier)
     check = d.check.format(x=a.x_label)
@@ -632,18 +631,12 @@ def _trend_check(a, points, trends, check_id: str, key: str, direction: str) -> 
         expected = "0"
         tolerance = (f"abs {k:.3g} SE ({k_tier:g} SE widened to Student t at {fit.dof} dof) = "
                      f"{k * se:.4g} (SE {se:.4g}; {len(xs)} runs at {len(set(xs))} values)")
-        unseen = k * se * (max(xs) - min(xs))
-        mean = float(np.mean(ys))
-        detail["unseen"] = unseen
-        if abs(slope) > k * se:
-            status = trends.against(a.tier)
+        compaction = abs(1.0 - float(np.mean(ys)))  # V/V0 is near 1: its margin is the compaction's
+        status, why, detail["allowed_change"] = trends.flat_verdict(
+            slope, se, k, max(xs) - min(xs), compaction, f"the compaction 1 - V/V0 = {compaction:.3g}",
+            a.tier)
+        if status == trends.against(a.tier):
             why = f"the {fit_text} resolves a dependence on {a.x_label}, on the {a.tier} tier's beds"
-        elif not unseen <= trends.FLAT_RESOLUTION * abs(mean):
-            status = "unresolved"
-            why = (f"a change of {unseen:.3g} across the range would go unseen (flat needs k SE x "
-                   f"range <= {trends.FLAT_RESOLUTION:g} x mean {mean:.3g})")
-        else:
-            status, why = "passed", ""
     else:
         sign = -1.0 if direction == "decrease" else 1.0
         expected = "< 0" if direction == "decrease" else "> 0"

@@ -457,7 +457,23 @@ def test_a_flat_vorticity_under_wide_scatter_is_not_resolved(tmp_path):
     noisy = build_sweep(tmp_path / "n", "angle", ANGLES, halving, wrms=flat, noise=0.6, seed=4)
     results = results_by_id(analyse(noisy, "angle", "standard"))["wrms_theta_flat"]
     assert [r.status for r in results] == ["unresolved"] * 2
-    assert all("would go unseen" in r.reason for r in results)
+    assert all("flat needs <= 0.25 x the mean" in r.reason for r in results)
+
+
+def test_flat_is_shown_only_when_the_whole_interval_of_the_change_is_within_the_margin(tmp_path):
+    # Two angles 6 deg apart, 5 runs each (8 dof, k = 2.37): k SE x range = 1.5 x the
+    # runs' scatter, the margin 0.25 x the mean 0.3 = 0.075.
+    near = vorticity_sweep(tmp_path / "near", {0.0: list(spread(0.300, 0.02, 5)),
+                                               6.0: list(spread(0.310, 0.02, 5))})
+    result = results_by_id(analyse(near, "angle", "paper"))["wrms_theta_flat"][0]
+    assert result.status == "passed" and result.detail["allowed_change"] < 0.075
+    # Scatter 0.04 (k SE x range 0.06, within the margin) and a change of 0.05, within
+    # k SE: the data allow up to 0.11 across the range, so flat is not shown.
+    far = vorticity_sweep(tmp_path / "far", {0.0: list(spread(0.300, 0.04, 5)),
+                                             6.0: list(spread(0.350, 0.04, 5))})
+    result = results_by_id(analyse(far, "angle", "paper"))["wrms_theta_flat"][0]
+    assert abs(result.detail["slope_in_se"]) < result.detail["k"]
+    assert result.status == "unresolved" and result.detail["allowed_change"] == pytest.approx(0.11, abs=0.005)
 
 
 def test_pressure_falling_with_the_ratio_fails_at_the_papers_scale(tmp_path):
@@ -652,6 +668,18 @@ def test_rising_peaks_are_not_steady_and_the_pmax_checks_say_so(tmp_path):
     # At the paper's scale the steady state is part of the statement: not steady fails.
     paper = results_by_id(analyse(folder, "angle", "paper"))["pmax_steady"]
     assert {r.status for r in paper} == {"failed"}
+
+
+def test_peaks_too_scattered_to_show_a_steady_state_are_not_resolved(tmp_path):
+    def scattered(p_max, cycles, rng):   # 30 % from cycle to cycle, no trend
+        return p_max * (1 + 0.3 * rng.normal(size=cycles))
+    folder = build_sweep(tmp_path / "a", "angle", ANGLES, halving, runs=True,
+                         run_options={"peaks": scattered})
+    steady = results_by_id(analyse(folder, "angle", "paper"))["pmax_steady"]
+    assert {r.status for r in steady} == {"unresolved"}
+    for r in steady:
+        assert r.detail["allowed_drift"] > 0.25 * r.detail["mean_peak"]
+        assert "flat needs <= 0.25 x the mean peak" in r.reason
 
 
 def test_one_run_with_two_steady_cycles_cannot_show_a_steady_state(tmp_path):
