@@ -95,8 +95,8 @@ FLAT_RESOLUTION = 0.25
 
 
 def flat_verdict(slope: float, se: float, k: float, span: float, scale: float,
-                 scale_text: str, tier: str, fraction: float = FLAT_RESOLUTION
-                 ) -> tuple[str, str, float]:
+                 scale_text: str, tier: str, fraction: float = FLAT_RESOLUTION,
+                 across: str = "the range") -> tuple[str, str, float]:
     """Status, reason and the largest change the data allow, for a claim of no dependence.
     Two one-sided tests (Schuirmann 1987, J. Pharmacokin. Biopharm. 15:657): flat is shown
     when (|slope| + k SE) x range <= fraction x scale; a slope beyond k SE resolves a
@@ -106,7 +106,7 @@ def flat_verdict(slope: float, se: float, k: float, span: float, scale: float,
         return against(tier), "", allowed
     if allowed <= fraction * scale:
         return "passed", "", allowed
-    return "unresolved", (f"a change of up to {allowed:.3g} across the range is within {k:.3g} SE "
+    return "unresolved", (f"a change of up to {allowed:.3g} across {across} is within {k:.3g} SE "
                           f"({allowed / scale:.0%} of {scale_text}); flat needs <= "
                           f"{fraction:g} x {scale_text}"), allowed
 
@@ -725,7 +725,7 @@ def _steady_checks(a: Analysis) -> list[CheckResult]:
         else:
             status, why, detail["allowed_drift"] = flat_verdict(
                 slope, se, k, span, abs(mean_peak), f"the mean peak {mean_peak:.4g}", a.tier,
-                fraction=p["drift"])
+                fraction=p["drift"], across="the steady cycles")
             if status == "passed":
                 a.steady[float(value)]["state"] = "steady"
             elif status != "unresolved":   # not steady: a failure only at the paper's scale
