@@ -106,9 +106,10 @@ def flat_verdict(slope: float, se: float, k: float, span: float, scale: float,
         return against(tier), "", allowed
     if allowed <= fraction * scale:
         return "passed", "", allowed
+    share = f"{allowed / scale:.0%} of {scale_text}" if scale > 0 else "the scale is 0"
     return "unresolved", (f"a change of up to {allowed:.3g} across {across} is within {k:.3g} SE "
-                          f"({allowed / scale:.0%} of {scale_text}); flat needs <= "
-                          f"{fraction:g} x {scale_text}"), allowed
+                          f"({share}); flat needs <= {fraction:g} x {scale_text}"), allowed
+
 
 #: The slope rules' k is the large-sample multiple; a fit of n runs has n - 2 dof, and
 #: with few of them "k SE" over-claims (one dof needs 14 SE for k = 2's level).
