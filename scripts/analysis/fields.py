@@ -3,9 +3,9 @@
 Inputs (docs/output-format.md): a run's ``stage_fields.csv`` (outputs.displacement.stages:
 the displacement over each heating and each cooling, averaged over the polar angle on
 the (r, z) cells, both stages of a cycle binned where the grains were at the start of
-that cycle) and its ``cycles.csv`` (peak pressure, V/V0 at the ends of heating and
-cooling). Per run this module returns numbers with uncertainties; ``checks(a)`` turns
-them into the CheckResults of the checks defined in trends.CHECKS (``stage_*``,
+that cycle), its ``cycles.csv`` (peak pressure per cycle) and its V/V0 series
+(``timeseries.csv``, or the ``volume.csv`` a campaign stores). Per run this module
+returns numbers with uncertainties; ``checks(a)`` turns them into the CheckResults of the checks defined in trends.CHECKS (``stage_*``,
 ``still_zone``, ``toroidal_cell``, ``steady_*``, ``cooling_dilation_ratio``).
 
 Uncertainties: per run, the standard error over its cycles (the bed's own noise); per
@@ -33,7 +33,7 @@ import numpy as np
 import pandas as pd
 
 from . import fits
-from .inputs import read_csv_columns, read_cycles, run_dir
+from .inputs import read_csv_columns, read_cycles, read_volume_series, run_dir
 
 #: The checks this module evaluates (their definitions: trends.CHECKS).
 CHECK_IDS = ("stage_heating_direction", "stage_cooling_direction", "still_zone", "toroidal_cell",
@@ -314,24 +314,61 @@ def cycles_to_steady(cycles: pd.DataFrame) -> dict:
     return {"cycle": first, "band": band, "mean": mean, "cycles": n}
 
 
-def steady_volume(cycles: pd.DataFrame) -> Estimate:
-    """V/V0 at the end of cooling over the steady cycles (second half): mean and SE."""
-    if cycles is None or "V_over_V0_end_cooling" not in cycles.columns:
-        return Estimate(math.nan, math.nan, 0, "cycles")
-    frame = cycles.sort_values("cycle")
-    values = frame["V_over_V0_end_cooling"].to_numpy(float)
-    return mean_se(values[len(values) // 2:], "cycles")
+def thermal_stages(temperature: np.ndarray) -> tuple[np.ndarray, list[np.ndarray]]:
+    """The stages of a sampled V/V0 series: (cycle of each row, the rows of each cooling
+    ramp). A row heats when its T is above the row before's, cools when below it; a
+    cycle begins with its heating, so the rows before the first heating are cycle -1.
+    A cooling ramp's rows are those strictly between the series' lowest and highest T
+    (the row sampled after the ramp has ended, at T0, already holds some of the cold
+    hold); ramp i is cycle i's."""
+    T = np.asarray(temperature, dtype=float)
+    change = np.diff(T, prepend=T[:1])
+    heating = change > 0
+    starts = heating & ~np.concatenate([[False], heating[:-1]])
+    cycle = np.cumsum(starts) - 1
+    cooling = (change < 0) & (T > T.min()) & (T < T.max())
+    ramps, first = [], None
+    for i, on in enumerate(np.append(cooling, False)):
+        if on and first is None:
+            first = i
+        elif not on and first is not None:
+            ramps.append(np.arange(first, i))
+            first = None
+    return cycle, ramps
 
 
-def cooling_dilation(cycles: pd.DataFrame) -> Estimate:
-    """The dilation the cooling takes back: V/V0 at the end of heating minus V/V0 at the
-    end of cooling of the same cycle (> 0: the bed is larger hot than cooled), mean and
-    SE over the steady cycles. Our reading of the paper's "dilation during cooling"."""
-    if cycles is None or not {"V_over_V0_end_cooling", "V_over_V0_end_heating"}.issubset(cycles.columns):
+def _steady(per_cycle: list[float]) -> Estimate:
+    """Mean and SE over the second half of the cycles (the steady ones, as P_max's)."""
+    return mean_se(per_cycle[len(per_cycle) // 2:], "cycles")
+
+
+def peak_density(series: pd.DataFrame | None) -> Estimate:
+    """The bed's densest state of each cycle, its lowest V/V0 (the paper: "the material
+    reaches nearly the same peak density for all investigated parameters"), mean and SE
+    over the steady cycles. Cycles with a cooling ramp count (complete ones); V/V0 at the
+    end of cooling is not it: the dilation during cooling, which the paper finds to
+    differ between parameters, lifts it."""
+    if series is None:
         return Estimate(math.nan, math.nan, 0, "cycles")
-    frame = cycles.sort_values("cycle")
-    values = (frame["V_over_V0_end_heating"] - frame["V_over_V0_end_cooling"]).to_numpy(float)
-    return mean_se(values[len(values) // 2:], "cycles")
+    volume = series["V_over_V0"].to_numpy(float)
+    cycle, ramps = thermal_stages(series["T"].to_numpy(float))
+    lows = [float(volume[cycle == cycle[r[0]]].min()) for r in ramps if cycle[r[0]] >= 0]
+    return _steady(lows)
+
+
+def cooling_dilation(series: pd.DataFrame | None) -> Estimate:
+    """The dilation during cooling (the paper: "small increases [of V/V0] during the
+    cooling at the steady state ... caused by dilatation"): in each cooling ramp, the
+    largest rise of V/V0 above its lowest value so far in the ramp (0 when V/V0 only
+    falls), mean and SE over the steady cycles. Not the difference between the ends of
+    heating and cooling: that swing is mostly the container's own contraction, which
+    grows with alpha_c whatever the grains do."""
+    if series is None:
+        return Estimate(math.nan, math.nan, 0, "cycles")
+    volume = series["V_over_V0"].to_numpy(float)
+    _, ramps = thermal_stages(series["T"].to_numpy(float))
+    rises = [float(np.max(volume[r] - np.minimum.accumulate(volume[r]))) for r in ramps]
+    return _steady(rises)
 
 
 def run_measures(folder: Path | None) -> dict:
@@ -350,8 +387,9 @@ def run_measures(folder: Path | None) -> dict:
         out["stage_cycles"] = len(fields.cycles)
     cycles = read_cycles(folder) if folder else None
     out["cycles_to_steady"] = cycles_to_steady(cycles)
-    out["steady_volume"] = steady_volume(cycles)
-    out["cooling_dilation"] = cooling_dilation(cycles)
+    series, out["volume_source"] = read_volume_series(folder)
+    out["steady_volume"] = peak_density(series)
+    out["cooling_dilation"] = cooling_dilation(series)
     out["cycles"] = 0 if cycles is None else int(len(cycles))
     return out
 
@@ -599,7 +637,7 @@ def _trend_check(a, points, trends, check_id: str, key: str, direction: str) -> 
     d = trends.CHECKS[check_id]
     p = d.params(a.tier)
     check = d.check.format(x=a.x_label)
-    xs, ys, cycles = [], [], []
+    xs, ys, cycles, unseries = [], [], [], []
     for value, runs, measures in points:
         for m in measures:
             v = m[key]["cycle"] if key == "cycles_to_steady" else m[key].value
@@ -607,15 +645,18 @@ def _trend_check(a, points, trends, check_id: str, key: str, direction: str) -> 
             if math.isfinite(v):
                 xs.append(value)
                 ys.append(v)
+            elif key in ("steady_volume", "cooling_dilation") and m.get("volume_source", "").startswith("no "):
+                unseries.append(m["volume_source"])
     fewest = min(cycles) if cycles else 0
     if fewest < p["min_cycles"]:
         return [trends._skip(a.case, d, check, f"runs of {fewest} cycle(s): the steady state needs "
                              f">= {p['min_cycles']:g} (the second half of the cycles is the steady band)",
                              a.tier)]
     if len(set(xs)) < 2 or len(xs) < 3:
+        without = f"; {len(unseries)} run(s) without a V/V0 series ({unseries[0]})" if unseries else ""
         return [trends._skip(a.case, d, check, f"{len(xs)} runs at {len(set(xs))} {a.x_label} value(s) "
                              "with a finite value; a slope with a standard error needs >= 3 runs at "
-                             ">= 2 values", a.tier)]
+                             f">= 2 values{without}", a.tier)]
     fit, why = fits.try_fit(pd.Series(xs), pd.Series(ys), 1)
     if fit is None or not math.isfinite(fit.slope_se):
         return [trends._skip(a.case, d, check, f"no linear fit: {why}", a.tier)]
@@ -626,7 +667,10 @@ def _trend_check(a, points, trends, check_id: str, key: str, direction: str) -> 
     in_se = slope / se if se > 0 else (math.copysign(math.inf, slope) if slope else 0.0)
     detail = {"k": k, "k_tier": k_tier, "dof": fit.dof, "slope": slope, "se": se, "slope_in_se": in_se, "n": len(xs),
               "points": len(set(xs)), "x": xs, "y": ys}
-    fit_text = f"slope {slope:.3g} +- {se:.2g} ({in_se:.2g} SE, {len(xs)} runs at {len(set(xs))} values)"
+    left_out = f"; {len(unseries)} run(s) without a V/V0 series left out" if unseries else ""
+    fit_text = f"slope {slope:.3g} +- {se:.2g} ({in_se:.2g} SE, {len(xs)} runs at {len(set(xs))} values{left_out})"
+    if unseries:
+        detail["without_series"] = len(unseries)
     if direction == "flat":
         expected = "0"
         tolerance = (f"abs {k:.3g} SE ({k_tier:g} SE widened to Student t at {fit.dof} dof) = "

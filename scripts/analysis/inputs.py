@@ -9,6 +9,8 @@ The contract (docs/trends.md, "Input files"):
   the swept parameter columns ``container.opening_angle_deg`` and
   ``thermal.alpha_c``, and ``W_rms_<a>_<b>`` (vorticity window of cycles a..b).
 - SWEEP/runs/<run>/timeseries.csv: ``t`` with ``pressure``, ``T``, ``V_over_V0``.
+- SWEEP/runs/<run>/volume.csv (a campaign's stored run, in place of timeseries.csv):
+  ``step``, ``t``, ``T``, ``V_over_V0``.
 - SWEEP/runs/<run>/cycles.csv: ``cycle``, ``peak_pressure``, ``t_peak``,
   ``V_over_V0_end_cooling``, ``V_over_V0_end_heating``.
 - SWEEP/runs/<run>/displacement_<a>_<b>.csv: ir, iz, r, z, ur, uz, count, w.
@@ -211,6 +213,31 @@ def read_run_json(folder: Path | None) -> dict | None:
 
 def read_timeseries(folder: Path) -> pd.DataFrame | None:
     return read_csv_columns(folder / "timeseries.csv", ("t", "T", "pressure", "bed_height", "V_over_V0"))
+
+
+#: The V/V0 series a campaign stores in place of timeseries.csv (docs/campaign.md,
+#: "Stored results"): timeseries.csv's columns step, t, T, V_over_V0, its rows as written.
+VOLUME_SERIES = "volume.csv"
+VOLUME_COLUMNS = ("step", "t", "T", "V_over_V0")
+
+
+def read_volume_series(folder: Path | None) -> tuple[pd.DataFrame | None, str]:
+    """The bed's V/V0 against time and temperature: (frame with t, T, V_over_V0 and no
+    missing value, source), or (None, why not). Source: volume.csv, else timeseries.csv."""
+    if folder is None:
+        return None, "no run folder"
+    for name in (VOLUME_SERIES, "timeseries.csv"):
+        path = Path(folder) / name
+        if not path.is_file():
+            continue
+        frame = read_csv_columns(path, VOLUME_COLUMNS)
+        if frame is None or not {"t", "T", "V_over_V0"}.issubset(frame.columns):
+            return None, f"{name} has no columns t, T and V_over_V0 (outputs.volume)"
+        frame = frame.dropna(subset=["t", "T", "V_over_V0"])
+        if frame.empty:
+            return None, f"{name} has no finite V_over_V0"
+        return frame.sort_values("t", kind="stable").reset_index(drop=True), name
+    return None, f"no {VOLUME_SERIES} or timeseries.csv (the V/V0 series)"
 
 
 def read_cycles(folder: Path) -> pd.DataFrame | None:

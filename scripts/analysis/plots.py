@@ -33,7 +33,7 @@ from matplotlib.figure import Figure  # noqa: E402
 from common.figures import save_figure  # noqa: E402
 
 from .inputs import (displacement_files, end_of_cycle_volumes, first_realizations,  # noqa: E402
-                     read_cycles, read_displacement, read_timeseries, run_dir)
+                     read_cycles, read_displacement, read_timeseries, read_volume_series, run_dir)
 from .output import slug  # noqa: E402
 from .trends import PAPER_VALUE, TIER_SCALE  # noqa: E402
 
@@ -198,7 +198,7 @@ def volume_vs_time(a, out_dir: Path):
     ax = fig.add_subplot()
     drawn_time, drawn_cycles, missing = 0, 0, []
     for color, (value, run, folder) in zip(_colors(len(runs)), runs):
-        series = read_timeseries(folder) if folder else None
+        series = read_volume_series(folder)[0]  # timeseries.csv, or a campaign run's volume.csv
         label = a.point_label(value) + f" (run {run})"
         if series is not None and {"t", "V_over_V0"}.issubset(series.columns) \
                 and series["V_over_V0"].notna().any():

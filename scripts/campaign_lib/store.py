@@ -4,7 +4,9 @@ provenance.json, written last, so a folder without it is not a stored run
 
 from __future__ import annotations
 
+import csv
 import hashlib
+import io
 import json
 import re
 import subprocess
@@ -23,6 +25,32 @@ PROVENANCE = "provenance.json"
 KEEP = re.compile(r"^(run\.json|cycles\.csv|wall_profile\.csv|stage_fields\.csv|displacement_\d+_\d+\.csv)$")
 #: A kept kind larger than this is not stored (named in the provenance instead).
 MAX_BYTES = 2_000_000
+#: Derived from timeseries.csv: its V/V0 series alone (the columns below, each row's
+#: text as the engine wrote it), for the peak density and the dilation during cooling
+#: (scripts/analysis/fields.py); about 60 kB for a paper run against 600 kB.
+VOLUME_FILE = "volume.csv"
+VOLUME_COLUMNS = ("step", "t", "T", "V_over_V0")
+
+
+def volume_series(timeseries: Path) -> bytes | None:
+    """The VOLUME_COLUMNS of a timeseries.csv as CSV text, or None when it lacks one of
+    them (a scene without outputs.volume) or cannot be read."""
+    try:
+        with open(timeseries, newline="", encoding="utf-8") as fh:
+            rows = csv.reader(fh)
+            header = next(rows)
+            if not set(VOLUME_COLUMNS).issubset(header):
+                return None
+            at = [header.index(c) for c in VOLUME_COLUMNS]
+            out = io.StringIO()
+            write = csv.writer(out, lineterminator="\n")
+            write.writerow(VOLUME_COLUMNS)
+            for row in rows:
+                if len(row) == len(header):  # a cut last line of an interrupted write is left out
+                    write.writerow([row[i] for i in at])
+    except (OSError, UnicodeDecodeError, StopIteration, csv.Error):
+        return None
+    return out.getvalue().encode()
 
 
 @dataclass
@@ -85,15 +113,17 @@ def store(results: Path, run: Run, run_dir: Path, provenance: dict) -> Path:
     folder = folder_of(results, run)
     (folder / PROVENANCE).unlink(missing_ok=True)
     files, omitted = {}, []
-    for path in sorted(run_dir.iterdir()):
-        if not path.is_file() or not KEEP.match(path.name):
-            continue
-        data = path.read_bytes()
+    kept = [(path.name, path.read_bytes()) for path in sorted(run_dir.iterdir())
+            if path.is_file() and KEEP.match(path.name)]
+    series = volume_series(run_dir / "timeseries.csv")
+    if series is not None:
+        kept.append((VOLUME_FILE, series))
+    for name, data in kept:
         if len(data) > MAX_BYTES:
-            omitted.append({"file": path.name, "bytes": len(data), "why": f"larger than {MAX_BYTES} bytes"})
+            omitted.append({"file": name, "bytes": len(data), "why": f"larger than {MAX_BYTES} bytes"})
             continue
-        write_atomic(folder / path.name, data)
-        files[path.name] = {"bytes": len(data), "sha256": hashlib.sha256(data).hexdigest()}
+        write_atomic(folder / name, data)
+        files[name] = {"bytes": len(data), "sha256": hashlib.sha256(data).hexdigest()}
     for old in folder.iterdir():
         if old.is_file() and old.name not in files and old.name != PROVENANCE:
             old.unlink()

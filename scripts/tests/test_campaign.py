@@ -86,7 +86,7 @@ def test_runs_are_stored_with_provenance_and_a_second_invocation_runs_nothing(ti
         assert f"start {label} (new)" in first.stdout and f"done {label}" in first.stdout
         folder = results / label
         names = sorted(p.name for p in folder.iterdir())
-        assert names == ["cycles.csv", "displacement_0_1.csv", "provenance.json", "run.json"], names
+        assert names == ["cycles.csv", "displacement_0_1.csv", "provenance.json", "run.json", "volume.csv"], names
         p = provenance(results, label)
         run_json = json.loads((folder / "run.json").read_text())
         assert run_json["status"] == "completed"
@@ -95,7 +95,7 @@ def test_runs_are_stored_with_provenance_and_a_second_invocation_runs_nothing(ti
         assert isinstance(p["engine"]["engine_dirty"], bool) and p["engine"]["binary_sha256"]
         assert p["cpu_seconds"] >= 0 and p["host"] and p["date"] and "sweep" in p["command"]
         assert p["golden_check"] is None and p["seed"] == int(label[-1])
-        assert set(p["files"]) == {"cycles.csv", "displacement_0_1.csv", "run.json"}
+        assert set(p["files"]) == {"cycles.csv", "displacement_0_1.csv", "run.json", "volume.csv"}
     before = {label: (results / label / "provenance.json").read_bytes() for label in labels}
 
     again = campaign(plan, root / "work", results, *run_args())
@@ -476,3 +476,26 @@ def test_the_engine_runs_in_the_campaigns_session_in_a_process_group_of_its_own(
     finally:
         child.kill()
         child.wait()
+
+
+def test_the_volume_series_is_kept_as_written_and_only_it(tmp_path):
+    from campaign_lib import store
+    from campaign_lib.plan import Point, Run
+    run_dir = tmp_path / "run"
+    run_dir.mkdir()
+    (run_dir / "run.json").write_text('{"status": "completed"}')
+    (run_dir / "timeseries.csv").write_text(
+        "step,t,T,pressure,V_over_V0\n"
+        "0,0,0,1.5,1\n"
+        "100,0.40000000000000002,4,2.5,0.99901234567890123\n"
+        "200,0.8,8,3")  # the cut last line of an interrupted write
+    run = Run(Point("theta0", {}, (1,)), 1)
+    folder = store.store(tmp_path / "results", run, run_dir, {"format": 1})
+    assert (folder / "volume.csv").read_text() == (
+        "step,t,T,V_over_V0\n0,0,0,1\n100,0.40000000000000002,4,0.99901234567890123\n")
+    files = json.loads((folder / "provenance.json").read_text())["files"]
+    assert set(files) == {"run.json", "volume.csv"} and files["volume.csv"]["bytes"] == 73
+    # A scene without outputs.volume has no series to keep.
+    (run_dir / "timeseries.csv").write_text("step,t,T,pressure\n0,0,0,1\n")
+    folder = store.store(tmp_path / "results", run, run_dir, {"format": 1})
+    assert not (folder / "volume.csv").exists()

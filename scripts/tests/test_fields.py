@@ -64,18 +64,55 @@ def write_stage_fields(folder: Path, cycles=6, heating=slump, circulation=0.2, n
     pd.concat(rows).to_csv(folder / fields.STAGE_FILE, index=False, float_format="%.6g")
 
 
-def write_cycles(folder: Path, cycles=10, steady_from=3, p=10.0, v_end=0.97, swing=0.01, seed=0):
-    """cycles.csv: peaks rising to p by cycle steady_from and flat after it (within 1 %),
-    V/V0 at the end of cooling v_end, swing higher at the end of heating."""
+#: Samples of the synthetic V/V0 series per stage: heating, hot hold, cooling, cold hold.
+STAGE_ROWS = (10, 5, 10, 5)
+
+
+def volume_rows(cycles=10, v_low=0.97, dilation=0.005, swing=0.04, noise=0.0005, seed=0) -> pd.DataFrame:
+    """A V/V0 series as timeseries.csv samples it: each cooling ramp falls by swing (the
+    container's contraction) to the cycle's lowest V/V0, v_low (+ noise), over its first
+    seven samples and then rises by `dilation` (the dilation during cooling); the cold
+    hold keeps half of that rise, and the heating climbs back by swing."""
+    rng = np.random.default_rng(seed)
+    heat, hot, cool, cold = STAGE_ROWS
+    t, T, V = [0.0], [0.0], [v_low + 0.5 * dilation]
+    for _ in range(cycles):
+        low = v_low + noise * rng.normal()
+        start = V[-1]
+        for i in range(1, heat + 1):
+            T.append(100.0 * i / heat)
+            V.append(start + (low + swing - start) * i / heat)
+        T += [100.0] * hot
+        V += [V[-1]] * hot
+        top = V[-1]
+        for i in range(1, cool + 1):
+            T.append(100.0 * (1 - i / cool))
+            V.append(top + (low - top) * i / 7 if i <= 7 else low + dilation * (i - 7) / (cool - 8))
+        T += [0.0] * cold
+        V += [low + 0.5 * dilation] * cold
+    t = np.arange(len(T)) * 0.4
+    return pd.DataFrame({"step": np.arange(len(T)) * 100, "t": t, "T": T, "V_over_V0": V})
+
+
+def write_cycles(folder: Path, cycles=10, steady_from=3, p=10.0, v_low=0.97, dilation=0.005, swing=0.04,
+                 seed=0, series="volume.csv"):
+    """cycles.csv: peaks rising to p by cycle steady_from and flat after it (within 1 %);
+    and the V/V0 series (volume_rows) as `series` (volume.csv or timeseries.csv; None:
+    none), whose ends of heating and cooling cycles.csv repeats."""
     rng = np.random.default_rng(seed)
     folder.mkdir(parents=True, exist_ok=True)
     k = np.arange(cycles)
     peak = np.where(k < steady_from, p * (0.3 + 0.7 * k / max(steady_from, 1)), p)
     peak = peak * (1 + 0.005 * rng.normal(size=cycles))
-    cooled = v_end + 0.0005 * rng.normal(size=cycles)
+    rows = volume_rows(cycles, v_low, dilation, swing, seed=seed)
+    per_cycle = sum(STAGE_ROWS)
+    ends = 1 + per_cycle * k
     pd.DataFrame({"cycle": k, "peak_pressure": peak, "t_peak": k + 0.5,
-                  "V_over_V0_end_heating": cooled + swing, "V_over_V0_end_cooling": cooled}).to_csv(
+                  "V_over_V0_end_heating": rows["V_over_V0"].to_numpy()[ends + STAGE_ROWS[0] - 1],
+                  "V_over_V0_end_cooling": rows["V_over_V0"].to_numpy()[ends + sum(STAGE_ROWS[:3]) - 1]}).to_csv(
         folder / "cycles.csv", index=False)
+    if series is not None:
+        rows.to_csv(folder / series, index=False)
 
 
 def build(folder: Path, kind: str, values, realizations=3, cycles=10, stage=None, run=None) -> Path:
@@ -170,13 +207,52 @@ def test_cycles_to_steady_is_the_first_cycle_in_the_band():
     assert math.isnan(fields.cycles_to_steady(pd.DataFrame({"cycle": [0], "peak_pressure": [1.0]}))["cycle"])
 
 
-def test_steady_volume_and_cooling_dilation_carry_their_cycle_scatter(tmp_path):
-    write_cycles(tmp_path, cycles=10, v_end=0.95, swing=0.02)
+def test_the_stages_of_a_series_are_told_by_its_temperature():
+    rows = volume_rows(cycles=3)
+    cycle, ramps = fields.thermal_stages(rows["T"].to_numpy())
+    heat, hot, cool, cold = STAGE_ROWS
+    assert cycle[0] == -1 and cycle[1] == 0 and cycle[-1] == 2  # the row before heating: no cycle
+    assert len(ramps) == 3
+    # A ramp's rows lie strictly between T0 and T1: the last sample at T0 is the hold's.
+    assert [len(r) for r in ramps] == [cool - 1] * 3
+    assert ramps[1][0] == 1 + sum(STAGE_ROWS) + heat + hot
+
+
+def test_peak_density_and_dilation_are_read_off_the_volume_series(tmp_path):
+    write_cycles(tmp_path, cycles=10, v_low=0.95, dilation=0.006, swing=0.05)
+    series, source = inputs.read_volume_series(tmp_path)
+    assert source == "volume.csv"
+    v = fields.peak_density(series)
+    d = fields.cooling_dilation(series)
+    assert v.value == pytest.approx(0.95, abs=0.001) and v.n == 5 and 0 < v.se < 0.001
+    assert d.value == pytest.approx(0.006, abs=0.001) and d.n == 5 and d.source == "cycles"
+    # The end of cooling is lifted by the dilation: it is not the peak density.
     cycles = inputs.read_cycles(tmp_path)
-    v = fields.steady_volume(cycles)
-    d = fields.cooling_dilation(cycles)
-    assert v.value == pytest.approx(0.95, abs=0.002) and v.n == 5 and 0 < v.se < 0.001
-    assert d.value == pytest.approx(0.02) and d.source == "cycles"
+    assert cycles["V_over_V0_end_cooling"].iloc[5:].mean() > v.value + 0.005
+
+
+def test_the_containers_contraction_alone_is_no_dilation(tmp_path):
+    # V/V0 falls by 0.08 over each cooling and never rises in it: no dilation, though the
+    # swing between the ends of heating and cooling (the measure of 2026-11-27) is 0.08.
+    write_cycles(tmp_path, cycles=10, dilation=0.0, swing=0.08)
+    series, _ = inputs.read_volume_series(tmp_path)
+    assert fields.cooling_dilation(series).value == 0.0
+    cycles = inputs.read_cycles(tmp_path)
+    swing = (cycles["V_over_V0_end_heating"] - cycles["V_over_V0_end_cooling"]).iloc[5:].mean()
+    assert swing == pytest.approx(0.08, abs=0.002)
+
+
+def test_the_series_comes_from_volume_csv_else_timeseries_csv(tmp_path):
+    write_cycles(tmp_path / "ts", series="timeseries.csv")
+    assert inputs.read_volume_series(tmp_path / "ts")[1] == "timeseries.csv"
+    write_cycles(tmp_path / "none", series=None)
+    frame, why = inputs.read_volume_series(tmp_path / "none")
+    assert frame is None and why.startswith("no volume.csv or timeseries.csv")
+    (tmp_path / "bare").mkdir()
+    pd.DataFrame({"t": [0.0, 1.0], "pressure": [0.0, 1.0]}).to_csv(tmp_path / "bare" / "timeseries.csv", index=False)
+    frame, why = inputs.read_volume_series(tmp_path / "bare")
+    assert frame is None and "outputs.volume" in why
+    assert math.isnan(fields.peak_density(None).value) and math.isnan(fields.cooling_dilation(None).value)
 
 
 # --------------------------------------------------------------------------- checks
@@ -349,7 +425,7 @@ def test_steady_time_within_the_scatter_is_not_resolved(tmp_path):
 
 def test_the_same_steady_density_passes_and_a_trend_is_against(tmp_path):
     same = build(tmp_path / "s", "ratio", (1.0, 5.0, 10.0))
-    trend = build(tmp_path / "t", "ratio", (1.0, 5.0, 10.0), run=lambda x, s: {"v_end": 0.99 - 0.004 * x})
+    trend = build(tmp_path / "t", "ratio", (1.0, 5.0, 10.0), run=lambda x, s: {"v_low": 0.99 - 0.004 * x})
     assert statuses(results(same, "ratio"), "steady_volume_flat") == ["passed"]
     assert_against(by_tier(trend, "ratio"), "steady_volume_flat")
 
@@ -360,22 +436,42 @@ def test_a_steady_density_scattered_by_a_fifth_of_the_compaction_is_not_resolved
     # than the margin 0.25 x 0.1; against a margin of V/V0 itself it would have passed.
     values = (0.88, 0.90, 0.92)
     folder = build(tmp_path / "n", "ratio", (1.0, 5.0, 10.0),
-                   run=lambda x, s: {"v_end": values[(s + int(x)) % 3]})
+                   run=lambda x, s: {"v_low": values[(s + int(x)) % 3]})
     found = results(folder, "ratio")["steady_volume_flat"][0]
     assert found.status == "unresolved", found.reason
-    assert "of the compaction 1 - V/V0 = 0.1" in found.reason
+    assert "of the compaction 1 - V/V0 = 0.1" in found.reason or "of the compaction 1 - V/V0 = 0.0999" in found.reason
     assert 0.025 < found.detail["allowed_change"] < 0.9 * 0.25
 
 
 def test_cooling_dilation_weaker_at_small_ratio_passes_and_the_reverse_is_against(tmp_path):
-    rising = build(tmp_path / "r", "ratio", (1.0, 5.0, 10.0), run=lambda x, s: {"swing": 0.002 * x})
-    falling = build(tmp_path / "f", "ratio", (1.0, 5.0, 10.0), run=lambda x, s: {"swing": 0.03 - 0.002 * x})
-    flat = build(tmp_path / "n", "ratio", (1.0, 5.0, 10.0), run=lambda x, s: {"swing": (0.01, 0.02, 0.015)[s]})
+    rising = build(tmp_path / "r", "ratio", (1.0, 5.0, 10.0), run=lambda x, s: {"dilation": 0.001 * x})
+    falling = build(tmp_path / "f", "ratio", (1.0, 5.0, 10.0), run=lambda x, s: {"dilation": 0.012 - 0.001 * x})
+    flat = build(tmp_path / "n", "ratio", (1.0, 5.0, 10.0),
+                 run=lambda x, s: {"dilation": (0.004, 0.008, 0.006)[s]})
     found = results(rising, "ratio")
     assert statuses(found, "cooling_dilation_ratio") == ["passed"]
     assert "steady_time_theta" not in found  # an angle statement
     assert_against(by_tier(falling, "ratio"), "cooling_dilation_ratio")
     assert statuses(results(flat, "ratio"), "cooling_dilation_ratio") == ["unresolved"]
+
+
+def test_a_swing_growing_with_the_ratio_is_not_a_dilation(tmp_path):
+    # The container's contraction grows with alpha_c: under the measure of 2026-11-27 (the
+    # ends of heating and cooling) this sweep passed; the grains dilate alike at every ratio.
+    folder = build(tmp_path / "k", "ratio", (1.0, 5.0, 10.0),
+                   run=lambda x, s: {"swing": 0.008 * x, "dilation": (0.004, 0.008, 0.006)[s]})
+    assert statuses(results(folder, "ratio"), "cooling_dilation_ratio") == ["unresolved"]
+
+
+def test_runs_without_a_volume_series_are_left_out_and_said(tmp_path):
+    def series(x, s):
+        return {"series": None if s == 0 else "volume.csv"}
+    some = build(tmp_path / "s", "ratio", (1.0, 5.0, 10.0), run=series)
+    found = results(some, "ratio")["steady_volume_flat"][0]
+    assert found.status == "passed" and found.detail["without_series"] == 3
+    none = build(tmp_path / "n", "ratio", (1.0, 10.0), realizations=2, run=series)  # 2 runs with one
+    found = results(none, "ratio")["cooling_dilation_ratio"][0]
+    assert found.status == "skipped" and "without a V/V0 series (no volume.csv" in found.reason
 
 
 def test_without_stage_fields_or_enough_cycles_the_checks_skip(tmp_path):
