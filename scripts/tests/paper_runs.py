@@ -1,7 +1,7 @@
 """Synthetic stored runs of the paper campaign, in the exact format the campaign stores
 them (docs/campaign.md, "Stored results"): RESULTS/<point>/seed<s>/ with run.json (the
-plan's scene for the run, status, summary), cycles.csv, displacement_<a>_<b>.csv and
-provenance.json, written last. A helper of the tests, not a test file.
+plan's scene for the run, status, summary), cycles.csv, volume.csv,
+displacement_<a>_<b>.csv and provenance.json, written last. A helper of the tests, not a test file.
 """
 
 from __future__ import annotations
@@ -11,6 +11,7 @@ import sys
 from pathlib import Path
 
 import numpy as np
+import pandas as pd
 
 SCRIPTS = Path(__file__).resolve().parent.parent
 if str(SCRIPTS) not in sys.path:
@@ -31,6 +32,36 @@ def peaks(p_max: float, seed: int, cycles: int = CYCLES) -> np.ndarray:
     rise = np.where(c < 6, 0.6 + 0.4 * c / 6, 1.0)
     wiggle = 0.01 * np.sin(1.7 * c + 2.1 * seed)
     return p_max * rise * (1.0 + wiggle)
+
+
+#: Samples of the synthetic V/V0 series per stage: heating, hot hold, cooling, cold hold.
+STAGE_ROWS = (10, 5, 10, 5)
+
+
+def volume_rows(cycles=10, v_low=0.97, dilation=0.005, swing=0.04, noise=0.0005, seed=0) -> pd.DataFrame:
+    """A V/V0 series as timeseries.csv samples it: each cooling ramp falls by swing (the
+    container's contraction) to the cycle's lowest V/V0, v_low (+ noise), over its first
+    seven samples and then rises by `dilation` (the dilation during cooling); the cold
+    hold keeps half of that rise, and the heating climbs back by swing."""
+    rng = np.random.default_rng(seed)
+    heat, hot, cool, cold = STAGE_ROWS
+    t, T, V = [0.0], [0.0], [v_low + 0.5 * dilation]
+    for _ in range(cycles):
+        low = v_low + noise * rng.normal()
+        start = V[-1]
+        for i in range(1, heat + 1):
+            T.append(100.0 * i / heat)
+            V.append(start + (low + swing - start) * i / heat)
+        T += [100.0] * hot
+        V += [V[-1]] * hot
+        top = V[-1]
+        for i in range(1, cool + 1):
+            T.append(100.0 * (1 - i / cool))
+            V.append(top + (low - top) * i / 7 if i <= 7 else low + dilation * (i - 7) / (cool - 8))
+        T += [0.0] * cold
+        V += [low + 0.5 * dilation] * cold
+    t = np.arange(len(T)) * 0.4
+    return pd.DataFrame({"step": np.arange(len(T)) * 100, "t": t, "T": T, "V_over_V0": V})
 
 
 def vortex(cells: int = 8, strength: float = 0.01) -> str:
@@ -61,6 +92,7 @@ def store_run(results: Path, point: str, seed: int, p_max: float, *, plan: Plan 
         rows.append(f"{k},{series[k]:.17g},{25.0 * k + 20.0},{v_cool[k] + 0.002:.17g},"
                     f"{v_cool[k]:.17g},9000,30,0")
     (folder / "cycles.csv").write_text("\n".join(rows) + "\n")
+    volume_rows(CYCLES, v_low=float(v_cool[-1]) - 0.005, seed=seed).to_csv(folder / "volume.csv", index=False)
     (folder / "displacement_0_10.csv").write_text(vortex(strength=0.02))
     (folder / "displacement_10_20.csv").write_text(vortex(strength=0.01))
     steady = series[10:20]

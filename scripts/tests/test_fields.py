@@ -20,6 +20,7 @@ SCRIPTS = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(SCRIPTS))
 
 from analysis import fields, inputs, plots, trends  # noqa: E402
+from paper_runs import STAGE_ROWS, volume_rows  # noqa: E402
 
 NR, NZ, CELL = 8, 10, 1.0
 R, H = NR * CELL, NZ * CELL
@@ -62,36 +63,6 @@ def write_stage_fields(folder: Path, cycles=6, heating=slump, circulation=0.2, n
             frame[name] = v.ravel() + noise * rng.normal(size=v.size)
         rows.append(frame)
     pd.concat(rows).to_csv(folder / fields.STAGE_FILE, index=False, float_format="%.6g")
-
-
-#: Samples of the synthetic V/V0 series per stage: heating, hot hold, cooling, cold hold.
-STAGE_ROWS = (10, 5, 10, 5)
-
-
-def volume_rows(cycles=10, v_low=0.97, dilation=0.005, swing=0.04, noise=0.0005, seed=0) -> pd.DataFrame:
-    """A V/V0 series as timeseries.csv samples it: each cooling ramp falls by swing (the
-    container's contraction) to the cycle's lowest V/V0, v_low (+ noise), over its first
-    seven samples and then rises by `dilation` (the dilation during cooling); the cold
-    hold keeps half of that rise, and the heating climbs back by swing."""
-    rng = np.random.default_rng(seed)
-    heat, hot, cool, cold = STAGE_ROWS
-    t, T, V = [0.0], [0.0], [v_low + 0.5 * dilation]
-    for _ in range(cycles):
-        low = v_low + noise * rng.normal()
-        start = V[-1]
-        for i in range(1, heat + 1):
-            T.append(100.0 * i / heat)
-            V.append(start + (low + swing - start) * i / heat)
-        T += [100.0] * hot
-        V += [V[-1]] * hot
-        top = V[-1]
-        for i in range(1, cool + 1):
-            T.append(100.0 * (1 - i / cool))
-            V.append(top + (low - top) * i / 7 if i <= 7 else low + dilation * (i - 7) / (cool - 8))
-        T += [0.0] * cold
-        V += [low + 0.5 * dilation] * cold
-    t = np.arange(len(T)) * 0.4
-    return pd.DataFrame({"step": np.arange(len(T)) * 100, "t": t, "T": T, "V_over_V0": V})
 
 
 def write_cycles(folder: Path, cycles=10, steady_from=3, p=10.0, v_low=0.97, dilation=0.005, swing=0.04,

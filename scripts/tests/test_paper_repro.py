@@ -355,3 +355,13 @@ def test_the_contact_law_and_the_compliance_ladders_are_shown(tmp_path):
     bad.write_text('{"observables": {}}')
     with pytest.raises(paper_repro.PaperReproError, match=r"bad\.json: not a compare-settings comparison"):
         paper_repro.build(results=tmp_path / "none", out=tmp_path / "out3", ladders=[(0.0, bad)])
+
+
+def test_the_stored_volume_series_reaches_the_steady_density_check(tmp_path):
+    # Every synthetic stored run keeps its volume.csv as the campaign stores it, with the
+    # same peak density at 0 and 6 deg: the check that needs it runs and passes.
+    results = tmp_path / "results"
+    paper_runs.store_halving(results)
+    data = paper_repro.build(results=results, out=tmp_path / "out", reduced=[])
+    rows = [row for row in statement(data, "fig4a")["checks"] if row["id"] == "steady_volume_flat"]
+    assert [row["result"] for row in rows] == ["PASS"], rows
