@@ -680,7 +680,7 @@ def _trend_check(a, points, trends, check_id: str, key: str, direction: str) -> 
             slope, se, k, max(xs) - min(xs), compaction, f"the compaction 1 - V/V0 = {compaction:.3g}",
             a.tier)
         if status == trends.against(a.tier):
-            why = f"the {fit_text} resolves a dependence on {a.x_label}, on the {a.tier} tier's beds"
+            why = f"the {fit_text} resolves a dependence on {a.x_label}, on the {a.tier} tier's beds: {why}"
     else:
         sign = -1.0 if direction == "decrease" else 1.0
         expected = "< 0" if direction == "decrease" else "> 0"

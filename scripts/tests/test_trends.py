@@ -477,6 +477,38 @@ def test_flat_is_shown_only_when_the_whole_interval_of_the_change_is_within_the_
     assert result.status == "unresolved" and result.detail["allowed_change"] == pytest.approx(0.11, abs=0.005)
 
 
+def test_a_small_resolved_dependence_does_not_contradict_nearly_the_same(tmp_path):
+    # A change of 0.03 across 6 deg (10 % of the mean 0.3) with a tight scatter: the slope
+    # is resolved from 0, yet the whole interval of the change stays within the margin's
+    # reach (0.075): "practically independent" allows it. Under the rule of 2026-11-28
+    # (any resolved slope is against the claim) this read contradicted.
+    small = vorticity_sweep(tmp_path / "small", {0.0: list(spread(0.300, 0.02, 5)),
+                                                 6.0: list(spread(0.330, 0.02, 5))})
+    result = results_by_id(analyse(small, "angle", "paper"))["wrms_theta_flat"][0]
+    assert abs(result.detail["slope_in_se"]) > result.detail["k"]
+    assert result.status in ("passed", "unresolved"), result.reason  # not against the claim
+    # A change of 0.15 (half the mean): the whole interval beyond the margin: contradicted.
+    large = vorticity_sweep(tmp_path / "large", {0.0: list(spread(0.300, 0.02, 5)),
+                                                 6.0: list(spread(0.150, 0.02, 5))})
+    result = results_by_id(analyse(large, "angle", "paper"))["wrms_theta_flat"][0]
+    assert result.status == "failed" and "beyond 0.25 x the mean" in result.reason, result.reason
+
+
+def test_the_flat_rule_against_only_beyond_the_margin_unless_any_trend_counts():
+    # slope 0.01 +- 0.002 over a range of 6, k = 2, margin 0.25 x 0.2 = 0.05: the change
+    # lies in [0.036, 0.084]: resolved from 0, the margin inside its interval: not resolved.
+    status, why, allowed = trends.flat_verdict(0.01, 0.002, 2.0, 6.0, 0.2, "the mean 0.2", "paper")
+    assert status == "unresolved" and allowed == pytest.approx(0.084) and "0.036 to 0.084" in why
+    # [0.48, 0.72]: all of it beyond the margin.
+    assert trends.flat_verdict(0.1, 0.01, 2.0, 6.0, 0.2, "the mean 0.2", "paper")[0] == "failed"
+    assert trends.flat_verdict(0.1, 0.01, 2.0, 6.0, 0.2, "the mean 0.2", "standard")[0] == "contradicted"
+    # The steady state's rule: any resolved trend is against (issue 30: "no resolved trend").
+    assert trends.flat_verdict(0.01, 0.002, 2.0, 6.0, 0.2, "the mean 0.2", "paper",
+                               any_resolved_slope=True)[0] == "failed"
+    # [0, 0.03]: all of it within the margin.
+    assert trends.flat_verdict(0.001, 0.002, 2.0, 6.0, 0.2, "the mean 0.2", "paper")[0] == "passed"
+
+
 def test_pressure_falling_with_the_ratio_fails_at_the_papers_scale(tmp_path):
     folder = build_sweep(tmp_path / "r", "ratio", RATIOS, lambda r: 20.0 - 0.5 * r)
     assert statuses(analyse(folder, "ratio"), "pmax_ratio_slope") == ["failed"]
