@@ -800,6 +800,17 @@ def realizations_needed(ratio: dict, p: Mapping[str, float]) -> int | None:
     return max(n, math.ceil(n * (z * sigma / margin) ** 2))
 
 
+def _straddled(low: float, high: float, value: float, band: tuple[float, float]) -> str:
+    """Which edge of the band an interval that neither lies inside nor outside it crosses,
+    and on which side of that edge the ratio itself lies: a ratio at 0.347 in
+    [0.327, 0.366] against 0.35-0.65 is short of a half, not merely uncertain."""
+    if low < band[0] and high > band[1]:
+        return f"reaches beyond both edges of the paper's band {band[0]:g}-{band[1]:g}"
+    edge = band[0] if low < band[0] else band[1]
+    side = "inside the band" if band[0] <= value <= band[1] else ("below it" if value < band[0] else "above it")
+    return f"straddles the paper's band's edge {edge:g} ({band[0]:g}-{band[1]:g}), R = {value:.3g} {side}"
+
+
 def _halving_check(a: Analysis) -> CheckResult:
     definition = CHECKS["pmax_ratio_6_0"]
     p = definition.params(a.tier)
@@ -834,7 +845,9 @@ def _halving_check(a: Analysis) -> CheckResult:
     low, high = value - k * sigma, value + k * sigma
     tolerance = (f"{p['level']:.0%} interval [{low:.3g}, {high:.3g}] inside {band[0]:g}-{band[1]:g} "
                  f"(R +- {k:.3g} sigma_R, sigma_R {sigma:.3g}, Student t, {ratio['dof']:.3g} dof)")
-    more = f"; about {needed} realizations per angle would resolve it" if needed else ""
+    settles = "inside" if band[0] <= value <= band[1] else "outside"
+    more = (f"; about {needed} realizations per angle would resolve it ({settles} the band, if R "
+            f"stays at {value:.3g})" if needed else "")
     if band[0] <= low and high <= band[1]:
         status, why = "passed", ""
     elif high < band[0] or low > band[1]:
@@ -844,8 +857,10 @@ def _halving_check(a: Analysis) -> CheckResult:
                f"{1 - value:.0%}, not by a half")
     else:
         status = "unresolved"
-        why = (f"the {p['level']:.0%} interval [{low:.3g}, {high:.3g}] reaches beyond the paper's "
-               f"band {band[0]:g}-{band[1]:g}{more}")
+        why = (f"the {p['level']:.0%} interval [{low:.3g}, {high:.3g}] "
+               f"{_straddled(low, high, value, band)}; the cone lowers the peak by {1 - value:.0%}, "
+               f"and an exact halving, R = {p['target']:g}, lies "
+               f"{'inside' if low <= p['target'] <= high else 'outside'} the interval{more}")
     return _result(a, definition, definition.check, status, value, expected, tolerance, why, detail)
 
 

@@ -426,6 +426,21 @@ def test_a_halving_under_wide_scatter_is_not_resolved_and_says_what_would_resolv
     assert line["passed"] is True and line["resolved"] is False
 
 
+def test_a_ratio_straddling_the_bands_lower_edge_says_it_is_short_of_a_half(tmp_path):
+    # The paper-scale campaign's part (a): R = 0.347, interval [0.327, 0.366] against 0.35-0.65.
+    folder = ratio_sweep(tmp_path / "a", 0.347, 0.0085)
+    result = results_by_id(analyse(folder, "angle", "paper"))["pmax_ratio_6_0"][0]
+    assert result.status == "unresolved"
+    assert "straddles the paper's band's edge 0.35 (0.35-0.65), R = 0.347 below it" in result.reason
+    assert "lowers the peak by 65%" in result.reason
+    assert "an exact halving, R = 0.5, lies outside the interval" in result.reason
+    assert "resolve it (outside the band, if R stays at 0.347)" in result.reason
+    # Scatter wide enough to take in both edges and the half itself: said as such.
+    wide = results_by_id(analyse(ratio_sweep(tmp_path / "b", 0.5, 0.2), "angle", "paper"))["pmax_ratio_6_0"][0]
+    assert "reaches beyond both edges" in wide.reason and "lies inside the interval" in wide.reason
+    assert "(inside the band, if R stays at 0.5)" in wide.reason
+
+
 @pytest.mark.parametrize("ratio, sigma, tier, status", [
     (0.67, 0.09, "standard", "unresolved"),   # N = 200: "a third, not a half" (issue 30)
     (0.67, 0.09, "paper", "unresolved"),
