@@ -135,22 +135,41 @@ class Runner:
         or any run while at least the minimum slice is left (a run longer than a session
         goes on in installments); the ones that do not start are dropped for this
         invocation."""
-        while queue and not self.binary_changed:
-            state = queue[0]
-            state.progress = state.folder.progress()
-            need = self.estimate * (1.0 - state.progress.fraction)
-            if need <= self.left():
+        waiting = []   # (label, need) of the runs dropped here: said in one line
+        try:
+            while queue and not self.binary_changed:
+                state = queue[0]
+                state.progress = state.folder.progress()
+                need = self.estimate * (1.0 - state.progress.fraction)
+                if need <= self.left():
+                    queue.pop(0)
+                    return state
+                if self.min_slice > 0.0 and self.left() >= self.min_slice:
+                    self.say(f"budget: {state.run.label} needs about {hours(need)}, {hours(self.left())} left: "
+                             "it starts and stops at a checkpoint when the budget ends")
+                    queue.pop(0)
+                    return state
+                waiting.append((state.run.label, need))
                 queue.pop(0)
-                return state
-            if self.min_slice > 0.0 and self.left() >= self.min_slice:
-                self.say(f"budget: {state.run.label} needs about {hours(need)}, {hours(self.left())} left: it "
-                         "starts and stops at a checkpoint when the budget ends")
-                queue.pop(0)
-                return state
-            self.say(f"budget: not starting {state.run.label}: {hours(self.left())} left, it needs about "
-                     f"{hours(need)}")
-            queue.pop(0)
-        return None
+            return None
+        finally:
+            if waiting:
+                self.say(self._not_starting(waiting))
+
+    def _not_starting(self, waiting: list) -> str:
+        """One line for the runs the budget leaves for the next invocation; without a
+        minimum slice it says how to give them the idle cores."""
+        label, need = waiting[0]
+        if len(waiting) == 1:
+            text = f"budget: not starting {label}: {hours(self.left())} left, it needs about {hours(need)}"
+        else:
+            least = min(n for _, n in waiting)
+            text = (f"budget: not starting {label} and {len(waiting) - 1} more: {hours(self.left())} left, "
+                    f"each needs at least {hours(least)}")
+        if self.min_slice == 0.0:
+            text += ("; --min-slice MINUTES would start them now, to stop at a checkpoint when the budget "
+                     "ends (where the work folder outlives the session)")
+        return text
 
     def _start(self, state: RunState) -> Active | None:
         folder = state.folder

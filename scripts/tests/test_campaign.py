@@ -139,8 +139,16 @@ def test_a_run_longer_than_the_budget_starts_while_the_minimum_slice_is_left(tmp
     budget = f"{2.0 / 3600:.8f}"   # 2 s: the pour, not the cycles
     waits = campaign(plan, tmp_path / "w0", tmp_path / "r0", "--budget", budget, "--stop-margin", "0.5",
                      "--golden-check", "skip", "--run-hours", "100", "--min-slice", "0")
-    assert "budget: not starting theta0/seed3" in waits.stdout, waits.stdout
+    assert "budget: not starting theta0/seed3: " in waits.stdout, waits.stdout
+    assert "--min-slice MINUTES would start them now" in waits.stdout, waits.stdout
     assert not (tmp_path / "w0" / "runs" / "theta0" / "seed3" / "out").exists()
+    # Runs the budget leaves are said in one line, not one each (a paper plan has 45).
+    two = write_plan(tmp_path, name="slice2", seed_list=(3, 4), angles=(0,),
+                     set={**TINY_SET, "thermal.cycles": 400})
+    both = campaign(two, tmp_path / "w2", tmp_path / "r2", "--budget", budget, "--stop-margin", "0.5",
+                    "--golden-check", "skip", "--run-hours", "100")
+    assert both.stdout.count("budget: not starting") == 1, both.stdout
+    assert "budget: not starting theta0/seed3 and 1 more: " in both.stdout, both.stdout
     # By default only runs that fit start: a session's work folder may not outlive it.
     default = campaign(plan, tmp_path / "w1", tmp_path / "r1", "--dry-run", "--budget", "1", "--run-hours", "100")
     assert "[not within the budget]" in default.stdout, default.stdout
