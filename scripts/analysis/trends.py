@@ -800,14 +800,18 @@ def realizations_needed(ratio: dict, p: Mapping[str, float]) -> int | None:
     return max(n, math.ceil(n * (z * sigma / margin) ** 2))
 
 
-def _straddled(low: float, high: float, value: float, band: tuple[float, float]) -> str:
+def _straddled(low: float, high: float, value: float, band: tuple[float, float], inside: bool) -> str:
     """Which edge of the band an interval that neither lies inside nor outside it crosses,
-    and on which side of that edge the ratio itself lies: a ratio at 0.347 in
-    [0.327, 0.366] against 0.35-0.65 is short of a half, not merely uncertain."""
+    and on which side of that edge the ratio itself lies (inside: R within the band): a
+    ratio at 0.347 in [0.327, 0.366] against 0.35-0.65 is short of a half, not merely
+    uncertain."""
     if low < band[0] and high > band[1]:
         return f"reaches beyond both edges of the paper's band {band[0]:g}-{band[1]:g}"
     edge = band[0] if low < band[0] else band[1]
-    side = "inside the band" if band[0] <= value <= band[1] else ("below it" if value < band[0] else "above it")
+    if inside:
+        side = "inside the band"
+    else:
+        side = "below it" if value < band[0] else "above it"
     return f"straddles the paper's band's edge {edge:g} ({band[0]:g}-{band[1]:g}), R = {value:.3g} {side}"
 
 
@@ -845,9 +849,9 @@ def _halving_check(a: Analysis) -> CheckResult:
     low, high = value - k * sigma, value + k * sigma
     tolerance = (f"{p['level']:.0%} interval [{low:.3g}, {high:.3g}] inside {band[0]:g}-{band[1]:g} "
                  f"(R +- {k:.3g} sigma_R, sigma_R {sigma:.3g}, Student t, {ratio['dof']:.3g} dof)")
-    settles = "inside" if band[0] <= value <= band[1] else "outside"
-    more = (f"; about {needed} realizations per angle would resolve it ({settles} the band, if R "
-            f"stays at {value:.3g})" if needed else "")
+    inside = band[0] <= value <= band[1]
+    more = (f"; about {needed} realizations per angle would resolve it ({'inside' if inside else 'outside'} "
+            f"the band, if R stays at {value:.3g})" if needed else "")
     if band[0] <= low and high <= band[1]:
         status, why = "passed", ""
     elif high < band[0] or low > band[1]:
@@ -858,7 +862,7 @@ def _halving_check(a: Analysis) -> CheckResult:
     else:
         status = "unresolved"
         why = (f"the {p['level']:.0%} interval [{low:.3g}, {high:.3g}] "
-               f"{_straddled(low, high, value, band)}; the cone lowers the peak by {1 - value:.0%}, "
+               f"{_straddled(low, high, value, band, inside)}; the cone lowers the peak by {1 - value:.0%}, "
                f"and an exact halving, R = {p['target']:g}, lies "
                f"{'inside' if low <= p['target'] <= high else 'outside'} the interval{more}")
     return _result(a, definition, definition.check, status, value, expected, tolerance, why, detail)

@@ -136,25 +136,24 @@ class Runner:
         goes on in installments); the ones that do not start are dropped for this
         invocation."""
         waiting = []   # (label, need) of the runs dropped here: said in one line
-        try:
-            while queue and not self.binary_changed:
-                state = queue[0]
-                state.progress = state.folder.progress()
-                need = self.estimate * (1.0 - state.progress.fraction)
-                if need <= self.left():
-                    queue.pop(0)
-                    return state
-                if self.min_slice > 0.0 and self.left() >= self.min_slice:
-                    self.say(f"budget: {state.run.label} needs about {hours(need)}, {hours(self.left())} left: "
-                             "it starts and stops at a checkpoint when the budget ends")
-                    queue.pop(0)
-                    return state
-                waiting.append((state.run.label, need))
-                queue.pop(0)
-            return None
-        finally:
-            if waiting:
-                self.say(self._not_starting(waiting))
+        chosen = None
+        while queue and not self.binary_changed:
+            state = queue[0]
+            state.progress = state.folder.progress()
+            need = self.estimate * (1.0 - state.progress.fraction)
+            if need <= self.left():
+                chosen = queue.pop(0)
+                break
+            if self.min_slice > 0.0 and self.left() >= self.min_slice:
+                self.say(f"budget: {state.run.label} needs about {hours(need)}, {hours(self.left())} left: it "
+                         "starts and stops at a checkpoint when the budget ends")
+                chosen = queue.pop(0)
+                break
+            waiting.append((state.run.label, need))
+            queue.pop(0)
+        if waiting:
+            self.say(self._not_starting(waiting))
+        return chosen
 
     def _not_starting(self, waiting: list) -> str:
         """One line for the runs the budget leaves for the next invocation; without a
