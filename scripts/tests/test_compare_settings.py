@@ -237,6 +237,38 @@ def test_a_stopped_plan_goes_on_from_the_checkpoints(done, tmp_path):
             pd.testing.assert_frame_equal(a[keep], b[keep])
 
 
+def test_threads_option_runs_every_packing_and_run_on_that_many_threads(done, tmp_path):
+    """--threads 2: the engine is asked for two threads (the runs' scenes say so) and
+    gives the bits of one (the done fixture's runs, wall-clock columns aside); the
+    table says what each setting ran on, so its seconds are not read as one thread's."""
+    _, ref = done
+    plan = write_plan(tmp_path)
+    out = tmp_path / "out"
+    r = call(plan, "--out", out, "--threads", "2")
+    assert r.returncode == 0, r.stderr
+    for name in ("rigid", "soft"):
+        for s in (1, 2):
+            run = json.loads((out / "runs" / f"{name}-s{s}" / "run.json").read_text())
+            assert run["effective_scene"]["solver"]["threads"] == 2
+            a = pd.read_csv(out / "runs" / f"{name}-s{s}" / "timeseries.csv", dtype=str)
+            b = pd.read_csv(ref / "runs" / f"{name}-s{s}" / "timeseries.csv", dtype=str)
+            keep = [c for c in a.columns if not c.startswith("time_")]
+            pd.testing.assert_frame_equal(a[keep], b[keep])
+    threads = json.loads((out / "comparison.json").read_text())["observables"]["threads"]
+    assert {n: e["mean"] for n, e in threads.items()} == {"rigid": 2.0, "soft": 2.0}
+    assert "p" not in threads["soft"]  # a run's setting, not an observable to test
+    ref_threads = json.loads((ref / "comparison.json").read_text())["observables"]["threads"]
+    assert {n: e["mean"] for n, e in ref_threads.items()} == {"rigid": 1.0, "soft": 1.0}
+
+
+@pytest.mark.parametrize("threads", ["0", "-2"])
+def test_a_bad_thread_count_stops_before_any_work(tmp_path, threads):
+    r = call(write_plan(tmp_path), "--out", tmp_path / "out", "--threads", threads)
+    assert r.returncode == 2
+    assert f"--threads: expected a positive integer (OpenMP threads per run), got {threads}" in r.stderr
+    assert not (tmp_path / "out").exists()
+
+
 def test_a_bad_budget_stops_before_any_work(tmp_path):
     r = call(write_plan(tmp_path), "--out", tmp_path / "out", "--budget", "0")
     assert r.returncode == 2
