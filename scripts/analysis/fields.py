@@ -37,7 +37,7 @@ from .inputs import read_csv_columns, read_cycles, read_volume_series, run_dir
 
 #: The checks this module evaluates (their definitions: trends.CHECKS).
 CHECK_IDS = ("stage_heating_direction", "stage_cooling_direction", "still_zone", "toroidal_cell",
-             "steady_time_theta", "steady_volume_flat", "cooling_dilation_ratio")
+             "steady_time_theta", "steady_time_ratio", "steady_volume_flat", "cooling_dilation_ratio")
 STAGE_FILE = "stage_fields.csv"
 STAGE_COLUMNS = ("cycle", "ir", "iz", "r", "z", "count", "ur_heating", "uz_heating",
                  "ur_cooling", "uz_cooling")
@@ -633,7 +633,10 @@ def _trend_check(a, points, trends, check_id: str, key: str, direction: str) -> 
     """A slope of a per-run number against the swept parameter over all runs, with the
     rules of trends._slope_check: "decrease"/"increase": passed beyond k SE on the paper's
     side, the other side resolved is against(tier), else not resolved; "flat" (only the
-    steady V/V0): trends.flat_verdict against the bed's compaction 1 - V/V0."""
+    steady V/V0): trends.flat_verdict against the bed's compaction 1 - V/V0; "depends" (only
+    the cycles to the steady state against the ratio): passed beyond k SE on either side,
+    against(tier) when the whole k-SE change across the range lies within FLAT_RESOLUTION
+    of the runs' mean, else not resolved."""
     d = trends.CHECKS[check_id]
     p = d.params(a.tier)
     check = d.check.format(x=a.x_label)
@@ -681,6 +684,30 @@ def _trend_check(a, points, trends, check_id: str, key: str, direction: str) -> 
             a.tier)
         if status == trends.against(a.tier):
             why = f"the {fit_text} resolves a dependence on {a.x_label}, on the {a.tier} tier's beds: {why}"
+    elif direction == "depends":
+        expected = "!= 0"
+        span = max(xs) - min(xs)
+        mean_time = float(np.mean(ys))
+        margin = trends.FLAT_RESOLUTION * mean_time
+        allowed = (abs(slope) + k * se) * span
+        detail["allowed_change"] = allowed
+        tolerance = (f"{k:.3g} SE ({k_tier:g} SE widened to Student t at {fit.dof} dof) from 0, either sign "
+                     f"(SE {se:.4g}; {len(xs)} runs at {len(set(xs))} values); no dependence: a change "
+                     f"across the range within {trends.FLAT_RESOLUTION:g} x the mean {mean_time:.3g} cycles")
+        if abs(slope) - k * se > 0:
+            status = "passed"
+            why = (f"the rise {'lengthens' if slope > 0 else 'shortens'} with {a.x_label}: "
+                   f"{slope * span:+.3g} cycles across the range")
+        elif allowed <= margin:
+            status = trends.against(a.tier)
+            why = (f"the {fit_text}: the cycles to the steady state change by at most {allowed:.3g} "
+                   f"across the range, within {trends.FLAT_RESOLUTION:g} x their mean {mean_time:.3g}: "
+                   f"no time scale set by {a.x_label}, on the {a.tier} tier's beds")
+        else:
+            status = "unresolved"
+            why = (f"the {fit_text} is within {k:.3g} SE of 0, and a change of up to {allowed:.3g} "
+                   f"cycles across the range is more than {trends.FLAT_RESOLUTION:g} x the mean "
+                   f"{mean_time:.3g}")
     else:
         sign = -1.0 if direction == "decrease" else 1.0
         expected = "< 0" if direction == "decrease" else "> 0"
@@ -709,5 +736,6 @@ def checks(a) -> list:
         out += _trend_check(a, points, trends, "steady_time_theta", "cycles_to_steady", "decrease")
     out += _trend_check(a, points, trends, "steady_volume_flat", "steady_volume", "flat")
     if a.kind == "ratio":
+        out += _trend_check(a, points, trends, "steady_time_ratio", "cycles_to_steady", "depends")
         out += _trend_check(a, points, trends, "cooling_dilation_ratio", "cooling_dilation", "increase")
     return out

@@ -424,6 +424,20 @@ CHECKS.update({c.id: c for c in (
         reason="paper: the steady state comes sooner at larger opening angles",
         tier_reasons=_K_STEADY_REASONS),
     CheckDef(
+        id="steady_time_ratio", sweep="ratio", check="cycles to the steady state vs alpha_c/alpha_p",
+        figure="Fig. 3c",
+        rule="per run the first cycle whose peak pressure lies in the steady band (as "
+             "steady_time_theta); linear fit over all runs: pass |slope| - k SE > 0, either sign "
+             "(the sign is reported); no dependence resolved: (|slope| + k SE) x range at most "
+             "FLAT_RESOLUTION of the runs' mean cycles to the steady state (two one-sided tests), "
+             "against the paper; else not resolved; skipped below min_cycles" + _WIDENED,
+        tolerance=_K_STEADY,
+        reason="paper: 'alpha_c/alpha_p introduces a time scale that determines the rate of peak "
+               "pressure increase as a function of the number of cycles' (Fig. 3c): the length of "
+               "the rise, in cycles, depends on the ratio; the paper gives no direction, so either "
+               "sign passes and only a resolved absence of any dependence is against it",
+        tier_reasons=_K_STEADY_REASONS),
+    CheckDef(
         id="steady_volume_flat", sweep="both", check="steady V/V0 vs {x}",
         figure="Fig. 4",
         rule="per run the peak density of each cycle, its lowest V/V0 (the V/V0 series: "

@@ -394,6 +394,28 @@ def test_steady_time_within_the_scatter_is_not_resolved(tmp_path):
     assert statuses(results(folder, "angle"), "steady_time_theta") == ["unresolved"]
 
 
+def test_a_rise_whose_length_depends_on_the_ratio_passes_either_way_and_none_is_against(tmp_path):
+    # Fig. 3c: the ratio sets the time scale of the rise; the paper gives no direction.
+    longer = build(tmp_path / "l", "ratio", (1.0, 5.0, 10.0), run=lambda x, s: {"steady_from": int(1 + 0.5 * x)})
+    shorter = build(tmp_path / "s", "ratio", (1.0, 5.0, 10.0), run=lambda x, s: {"steady_from": int(7 - 0.5 * x)})
+    same = build(tmp_path / "n", "ratio", (1.0, 5.0, 10.0), run=lambda x, s: {"steady_from": 4})
+    found = results(longer, "ratio")["steady_time_ratio"]
+    assert [r.status for r in found] == ["passed"] and "lengthens" in found[0].reason
+    found = results(shorter, "ratio")["steady_time_ratio"]
+    assert [r.status for r in found] == ["passed"] and "shortens" in found[0].reason
+    assert_against(by_tier(same, "ratio"), "steady_time_ratio")
+    assert "no time scale set by" in results(same, "ratio")["steady_time_ratio"][0].reason
+    assert "steady_time_ratio" not in results(build(tmp_path / "a", "angle", (0.0, 8.0)), "angle")
+
+
+def test_a_rise_length_within_the_scatter_is_not_resolved(tmp_path):
+    folder = build(tmp_path / "n", "ratio", (1.0, 10.0), realizations=2,
+                   run=lambda x, s: {"steady_from": (2, 5)[s]})
+    found = results(folder, "ratio")["steady_time_ratio"][0]
+    assert found.status == "unresolved", found.reason
+    assert found.detail["allowed_change"] > 0.25 * 3.5  # the mean time is 3.5 cycles
+
+
 def test_the_same_steady_density_passes_and_a_trend_is_against(tmp_path):
     same = build(tmp_path / "s", "ratio", (1.0, 5.0, 10.0))
     trend = build(tmp_path / "t", "ratio", (1.0, 5.0, 10.0), run=lambda x, s: {"v_low": 0.99 - 0.004 * x})
