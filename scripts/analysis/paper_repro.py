@@ -21,7 +21,7 @@ import shutil
 import statistics
 import sys
 import traceback
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from types import SimpleNamespace
 
@@ -228,8 +228,18 @@ class Runs:
     results: Path
     used: dict          # run label -> store.Stored: current for the plan's scene
     refused: list       # "label: why" of stored folders not used
-    run_seconds: float  # one run's cost for "still to run"
+    run_seconds: float  # one run's cost for "still to run", at a point with no stored run
     cost_source: str
+    point_seconds: dict = field(default_factory=dict)  # point -> its stored runs' median cost
+
+    def cost(self, points: list) -> tuple[float, str]:
+        """The one-thread seconds of the runs missing at these points and how they were
+        estimated: a point's own stored runs where it has some (the cost depends on the
+        point: the ratio-1 runs are several times cheaper than the ratio-10 ones)."""
+        seconds = sum(len(self.missing(p)) * self.point_seconds.get(p, self.run_seconds) for p in points)
+        own = [p for p in points if self.missing(p) and p in self.point_seconds]
+        source = self.cost_source + (f"; {', '.join(own)} at the median of their own" if own else "")
+        return seconds, source
 
     def stored(self, point: str) -> list:
         return [r.seed for r in self.plan.runs if r.point.name == point and r.label in self.used]
@@ -259,14 +269,21 @@ def survey(plan: Plan, results: Path) -> Runs:
         used[run.label] = stored
     # A run's one-thread CPU time, as the campaign estimates it (a run resumed on two
     # threads spent twice its wall in CPU).
-    cpu = [c for c in (one_thread_seconds(s.provenance) for s in used.values()) if c is not None]
+    cost = {label: one_thread_seconds(s.provenance) for label, s in used.items()}
+    cpu = [c for c in cost.values() if c is not None]
+    point_seconds = {}
+    for point in plan.points:
+        own = [cost[r.label] for r in plan.runs
+               if r.point.name == point and cost.get(r.label) is not None]
+        if own:
+            point_seconds[point] = statistics.median(own)
     if cpu:
         seconds, source = statistics.median(cpu), f"the median of {len(cpu)} stored run(s)"
     else:
         seconds = plan.run_cost_hours * 3600.0
         source = f"the plan's run_cost_hours, {plan.run_cost_hours:g} h a run"
     return Runs(plan=plan, results=results, used=used, refused=refused, run_seconds=seconds,
-                cost_source=source)
+                cost_source=source, point_seconds=point_seconds)
 
 
 def analyse(runs: Runs, work: Path) -> dict:
@@ -334,8 +351,8 @@ def _missing(runs: Runs, points: list) -> str:
     count = sum(len(runs.missing(p)) for p in points)
     if not count:
         return "nothing: every planned run is stored"
-    return (f"{count} run(s): {'; '.join(parts)} (about {_hours(count * runs.run_seconds)} at "
-            f"{runs.cost_source})")
+    seconds, source = runs.cost(points)
+    return f"{count} run(s): {'; '.join(parts)} (about {_hours(seconds)} at {source})"
 
 
 def _why(reason: str) -> str:
@@ -626,6 +643,7 @@ def build(plan_path: Path = DEFAULT_PLAN, results: Path = DEFAULT_RESULTS, out: 
             "figures": paths, "notes": notes})
     planned = len(plan.runs)
     todo = planned - len(runs.used)
+    todo_seconds, todo_source = runs.cost(list(plan.points))
     ladder_rows, ladder_state = _ladders(ladders)
     engines = sorted({str((s.provenance.get("engine") or {}).get("engine_commit"))[:10]
                       for s in runs.used.values()})
@@ -637,7 +655,7 @@ def build(plan_path: Path = DEFAULT_PLAN, results: Path = DEFAULT_RESULTS, out: 
         "parts": [{"name": p.name, "description": p.description,
                    "stored": sum(r.label in runs.used for r in plan.part_runs(p)),
                    "planned": len(plan.part_runs(p))} for p in plan.parts],
-        "todo": (f"{todo} run(s), about {_hours(todo * runs.run_seconds)} at {runs.cost_source}"
+        "todo": (f"{todo} run(s), about {_hours(todo_seconds)} at {todo_source}"
                  if todo else "nothing: every planned run is stored"),
         "engines": engines, "refused": runs.refused, "statements": statements,
         "law": _law(plan), "ladders": ladder_rows,

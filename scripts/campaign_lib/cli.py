@@ -198,13 +198,22 @@ def print_status(plan, states, estimate, engine, golden_now, work, results) -> N
                 what += " [running now in another process]"
             say(f"  {run.label:28s} {what}")
     left = state.todo(states)
-    seconds = sum(estimate.seconds * (1.0 - s.progress.fraction) for s in left)
+    seconds = sum(estimate.for_run(s.run) * (1.0 - s.progress.fraction) for s in left)
     done = sum(1 for s in states if s.done)
     stale = sum(1 for s in states if s.stale)
     going = sum(1 for s in states if not s.done and s.started)
     say(f"{done} of {len(states)} runs stored and current, {stale} stale, {going} in progress, "
         f"{len(left)} to run: about {state.hours(seconds)} of run time left, the runs' estimated wall times summed "
-        f"(a run: {state.hours(estimate.seconds)}, {estimate.source})")
+        f"(a run: {state.hours(estimate.seconds)}, {estimate.source}{per_point(estimate)})")
+
+
+def per_point(estimate) -> str:
+    """The points whose own stored runs set their estimate, for the lines that give the
+    estimate of 'a run'."""
+    if not estimate.by_point:
+        return ""
+    return "; by a point's own stored runs: " + ", ".join(
+        f"{name} {state.hours(seconds)}" for name, (seconds, _) in estimate.by_point.items())
 
 
 def print_dry_run(states, estimate, budget, jobs, min_slice) -> None:
@@ -213,11 +222,11 @@ def print_dry_run(states, estimate, budget, jobs, min_slice) -> None:
         say("dry run: nothing to run, every run of the plan is stored and current")
         return
     say(f"dry run: {len(queue)} run(s) to do, in this order (a run: {state.hours(estimate.seconds)}, "
-        f"{estimate.source})")
+        f"{estimate.source}{per_point(estimate)})")
     slots = [0.0] * jobs   # when each slot is free, in seconds from now
     fitting = partial = 0
     for s in queue:
-        need = estimate.seconds * (1.0 - s.progress.fraction)
+        need = estimate.for_run(s.run) * (1.0 - s.progress.fraction)
         slot = min(range(jobs), key=lambda i: slots[i])
         begin = slots[slot]
         fits = budget is None or begin + need <= budget
@@ -307,15 +316,15 @@ def main(argv=None) -> int:
     margin = args.stop_margin if args.stop_margin else min(60.0, 0.1 * budget)
     say(f"plan {plan.name}: {len(states) - len(queue)} of {len(states)} runs stored and current, {len(queue)} to "
         f"run; budget {state.hours(budget)}, {args.jobs} at a time on {args.threads} thread(s) each; a run is estimated at "
-        f"{state.hours(estimate.seconds)} ({estimate.source}); engine {engine.short}")
+        f"{state.hours(estimate.seconds)} ({estimate.source}{per_point(estimate)}); engine {engine.short}")
     runner = Runner(plan, work, results, engine, golden_now, launcher_words(args.mpirun), args.jobs,
-                    estimate.seconds, budget, margin, args.progress_every, args.commit, say,
+                    estimate, budget, margin, args.progress_every, args.commit, say,
                     min_slice=60.0 * args.min_slice, threads=args.threads)
     started = time.monotonic()
     outcome = runner.run(queue)
     states = state.survey(plan, work, results, engine, golden_now)
     left = state.todo(states)
-    seconds = sum(estimate.seconds * (1.0 - s.progress.fraction) for s in left)
+    seconds = sum(estimate.for_run(s.run) * (1.0 - s.progress.fraction) for s in left)
     say(f"session over after {state.hours(time.monotonic() - started)}: {len(outcome.stored)} stored, "
         f"{len(outcome.stopped)} stopped at a checkpoint, {len(outcome.failed)} failed; "
         f"{len(states) - len(left)} of {len(states)} runs done, about {state.hours(seconds)} of run time left"

@@ -64,12 +64,13 @@ class Outcome:
 
 class Runner:
     def __init__(self, plan: Plan, work: Path, results: Path, engine: Engine, golden_check: dict | None,
-                 launcher: list, jobs: int, estimate_seconds: float, budget_seconds: float,
+                 launcher: list, jobs: int, estimate, budget_seconds: float,
                  stop_margin: float, progress_every: float, commit: bool, say, min_slice: float = 0.0,
                  threads: int = 1):
         self.plan, self.work, self.results, self.engine = plan, work, results, engine
         self.golden_check, self.launcher, self.jobs = golden_check, launcher, jobs
-        self.estimate = estimate_seconds
+        # Wall seconds of a run: a number for every run, or an Estimate (per point).
+        self.estimate = estimate.for_run if hasattr(estimate, "for_run") else (lambda run, s=float(estimate): s)
         self.min_slice = min_slice  # seconds of budget worth starting a run that will not finish in it
         self.threads = threads      # OpenMP threads of each engine (the same bits for any count)
         self.start = time.monotonic()
@@ -140,7 +141,7 @@ class Runner:
         while queue and not self.binary_changed:
             state = queue[0]
             state.progress = state.folder.progress()
-            need = self.estimate * (1.0 - state.progress.fraction)
+            need = self.estimate(state.run) * (1.0 - state.progress.fraction)
             if need <= self.left():
                 chosen = queue.pop(0)
                 break

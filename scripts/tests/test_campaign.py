@@ -18,6 +18,7 @@ import shutil
 import subprocess
 import sys
 from pathlib import Path
+from types import SimpleNamespace
 
 import pytest
 
@@ -382,8 +383,9 @@ class _Stored:
 
 
 class _State:
-    def __init__(self, provenance):
+    def __init__(self, provenance, point="p"):
         self.stored = _Stored(provenance)
+        self.run = SimpleNamespace(point=SimpleNamespace(name=point))
 
 
 def test_the_estimate_is_the_stored_runs_cpu_time_scaled_by_the_thread_factor():
@@ -419,6 +421,15 @@ def test_the_estimate_is_the_stored_runs_cpu_time_scaled_by_the_thread_factor():
     own = [_State({"cpu_seconds": h * 3600, "engine": current}) for h in (1.0, 1.1, 1.2)]
     mine = state.estimate(_Plan(), states + own, _Engine(), None)
     assert mine.seconds == pytest.approx(1.1 * 3600) and "3 current engine's run(s)" in mine.source
+    # A point with stored runs of its own is estimated by them (the paper bed's cost depends
+    # on the point); the others by the median over all.
+    cheap = [_State({"cpu_seconds": h * 3600, "engine": current}, point="ratio1") for h in (0.4, 0.5)]
+    both = state.estimate(_Plan(), states + own + cheap, _Engine(), None, threads=2)
+    ratio1, other = SimpleNamespace(point=SimpleNamespace(name="ratio1")), SimpleNamespace(point=SimpleNamespace(name="q"))
+    assert both.for_run(ratio1) == pytest.approx(0.45 * 3600 * 0.74)
+    assert "2 stored run(s) of ratio1" in both.source_for(ratio1)
+    assert both.for_run(other) == both.seconds == pytest.approx(1.0 * 3600 * 0.74)  # the 5 current runs' median
+    assert state.estimate(_Plan(), states + cheap, _Engine(), 1.5).for_run(ratio1) == 1.5 * 3600  # --run-hours: every run
     # A run of one- and two-thread segments stores its one-thread cost summed by segment.
     assert state.one_thread_seconds({"cpu_seconds": 9.0, "threads": 2, "one_thread_seconds": 7.0}) == 7.0
     assert state.thread_factor(1) == 1.0 and state.thread_factor(16) == pytest.approx(0.48 + 0.52 / 16)

@@ -165,6 +165,21 @@ def test_the_papers_point_is_judged_once_though_both_studies_hold_it(tmp_path):
     assert statement(data, "fig6")["verdict"] == "PASSED (2 passed, 2 skipped; provisional: 4 of 45 runs)"
 
 
+def test_what_is_left_is_costed_by_each_points_own_stored_runs(tmp_path):
+    # The paper bed's cost depends on the point (a ratio-1 run took 0.4 CPU h where the
+    # ratio-10 runs take 2.7): a point's missing runs cost the median of its own stored runs.
+    results = tmp_path / "results"
+    for seed in (1, 2):
+        paper_runs.store_run(results, "theta0_ratio10", seed, 1.0, cpu_seconds=7200.0)
+    paper_runs.store_run(results, "theta0_ratio1", 1, 0.2, cpu_seconds=1800.0)
+    data = paper_repro.build(results=results, out=tmp_path / "out")
+    # ratio 1: 4 x 0.5 h; 2.5, 5, 7.5 (no run of their own): 15 x the median 2 h; ratio 10: 3 x 2 h
+    assert statement(data, "fig3d")["missing"].endswith(
+        "(about 38.0 CPU h at the median of 3 stored run(s); theta0_ratio1, theta0_ratio10 at the median "
+        "of their own)")
+    assert data["todo"].startswith(f"42 run(s), about {(4 * 0.5 + 38 * 2):.1f} CPU h")
+
+
 def test_a_reduced_records_per_point_rows_go_under_their_own_study(tmp_path):
     steady = [{"id": "pmax_steady", "statement": "steady", "status": "passed", "check": f"P_max steady ({p})",
                "measured": 0.1, "detail": "", "reason": "", "fit": None}
