@@ -104,13 +104,18 @@ def flat_verdict(slope: float, se: float, k: float, span: float, scale: float,
     Pharmacokin. Biopharm. 15:657); the claim is contradicted only when the whole
     interval lies beyond it, (|slope| - k SE) x range > margin; anything between is not
     resolved, including a slope resolved from 0 whose change may still be within the
-    margin ("nearly the same" allows a small difference). any_resolved_slope: against
-    already when |slope| > k SE (the steady state: issue 30 defines "no resolved trend")."""
+    margin ("nearly the same" allows a small difference). any_resolved_slope (the steady
+    state, which issue 30 defines as "no resolved trend"): against already when |slope| >
+    k SE and the change is not shown within the margin; a trend resolved only because the
+    data are precise, whose whole interval lies within the margin, is flat (the paper's
+    "relatively constant value"): otherwise the same drift would pass with noisier peaks
+    and fail with quieter ones (the ratio-1 paper run of 2026-11-29: -3 % +- 0.7 % across
+    cycles 10-19, 12 SE)."""
     allowed = (abs(slope) + k * se) * span
     least = max(abs(slope) - k * se, 0.0) * span
     margin = fraction * scale
     share = (lambda change: f"{change / scale:.0%} of {scale_text}") if scale > 0 else (lambda change: "the scale is 0")
-    if any_resolved_slope and abs(slope) > k * se:
+    if any_resolved_slope and abs(slope) > k * se and allowed > margin:
         return against(tier), f"the slope is resolved from 0 ({abs(slope) / se if se > 0 else math.inf:.2g} SE)", allowed
     if least > margin:
         return against(tier), (f"the change across {across} is at least {least:.3g} ({share(least)}), "
@@ -154,9 +159,10 @@ CHECKS: dict[str, CheckDef] = {c.id: c for c in (
              "else the second half); with >= 2 runs their mean slope +- k sem (Student t, "
              "n - 1 dof), with 1 run of >= 3 such cycles its fit's slope +- k SE; "
              "k = t quantile at `level`. Steady (pass): a drift of (|slope| + k SE) over the "
-             "window is <= drift x the mean peak (two one-sided tests); not steady: |slope| > k SE "
-             "(a resolved trend), "
-             "which makes every P_max check using the point not resolved ('not steady')",
+             "window is <= drift x the mean peak (two one-sided tests), a trend resolved from 0 "
+             "included; not steady: |slope| > k SE (a resolved trend) and the drift not shown "
+             "within that margin, which makes every P_max check using the point not resolved "
+             "('not steady')",
         tolerance={"quick": {"level": 0.95, "drift": 0.25}, "standard": {"level": 0.95, "drift": 0.25},
                    "paper": {"level": 0.95, "drift": 0.25}},
         reason="paper: the peak pressure rises over the first cycles, then 'a steady state is "

@@ -53,7 +53,8 @@ class Estimate:
     """Wall seconds of a run: `seconds` for a point with no stored run of its own, and
     `by_point` (point name -> (seconds, source)) for the points that have some. The paper
     bed's cost depends on the point: at alpha_c/alpha_p = 1 the container and the grains
-    expand alike and a run took 0.4 CPU h where the ratio-10 runs take 2.7 (2026-11-29)."""
+    expand alike and a run took 0.6 CPU h (about 2 sweeps a step) where the ratio-10 runs
+    take 2.7 (2026-11-29)."""
     seconds: float
     source: str
     by_point: dict = field(default_factory=dict)

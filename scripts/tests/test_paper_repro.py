@@ -166,7 +166,7 @@ def test_the_papers_point_is_judged_once_though_both_studies_hold_it(tmp_path):
 
 
 def test_what_is_left_is_costed_by_each_points_own_stored_runs(tmp_path):
-    # The paper bed's cost depends on the point (a ratio-1 run took 0.4 CPU h where the
+    # The paper bed's cost depends on the point (a ratio-1 run took 0.6 CPU h where the
     # ratio-10 runs take 2.7): a point's missing runs cost the median of its own stored runs.
     results = tmp_path / "results"
     for seed in (1, 2):

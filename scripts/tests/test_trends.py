@@ -718,6 +718,26 @@ def test_rising_peaks_are_not_steady_and_the_pmax_checks_say_so(tmp_path):
     assert {r.status for r in paper} == {"failed"}
 
 
+def test_a_slow_drift_resolved_by_quiet_peaks_is_steady_when_within_the_margin(tmp_path):
+    # The paper's ratio-1 run: the peaks fall 0.4 % a cycle with almost no noise, a trend
+    # of many SE but 3 % of the peak across the steady cycles: "a relatively constant value".
+    def creeping(p_max, cycles, rng):
+        return p_max * (1 - 0.004 * np.arange(cycles)) * (1 + 1e-4 * rng.normal(size=cycles))
+    folder = build_sweep(tmp_path / "a", "angle", ANGLES, halving, runs=True,
+                         run_options={"peaks": creeping})
+    steady = results_by_id(analyse(folder, "angle", "paper"))["pmax_steady"]
+    assert {r.status for r in steady} == {"passed"}
+    for r in steady:
+        assert abs(r.detail["slope"]) > 5 * r.detail["k"] * r.detail["se"]   # resolved many times over
+        assert r.detail["allowed_drift"] <= 0.25 * r.detail["mean_peak"]
+    # Thirty times faster (12 % of the first peak a cycle, 46 % of the steady cycles' mean
+    # across them): not steady.
+    def sliding(p_max, cycles, rng):
+        return p_max * (1 - 0.12 * np.arange(cycles)) * (1 + 1e-4 * rng.normal(size=cycles))
+    folder = build_sweep(tmp_path / "b", "angle", ANGLES, halving, runs=True, run_options={"peaks": sliding})
+    assert {r.status for r in results_by_id(analyse(folder, "angle", "paper"))["pmax_steady"]} == {"failed"}
+
+
 def test_peaks_too_scattered_to_show_a_steady_state_are_not_resolved(tmp_path):
     def scattered(p_max, cycles, rng):   # 30 % from cycle to cycle, no trend
         return p_max * (1 + 0.3 * rng.normal(size=cycles))
