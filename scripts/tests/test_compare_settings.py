@@ -130,6 +130,18 @@ def test_second_call_resumes(done):
     assert {p: p.stat().st_mtime_ns for p in (out / "runs").glob("*/run.json")} == before
 
 
+def test_runs_carried_over_without_their_beds_are_not_poured_again(done, tmp_path):
+    # An earlier machine's completed runs, copied into a new folder without packs/ (a plan
+    # resumed on a fresh machine): nothing is poured or run, and the table is written.
+    plan, ref = done
+    out = tmp_path / "out"
+    shutil.copytree(ref / "runs", out / "runs", ignore=shutil.ignore_patterns("*.log"))
+    r = call(plan, "--out", out)
+    assert r.returncode == 0, r.stderr
+    assert not list((out / "packs").glob("*.state"))
+    assert json.loads((out / "comparison.json").read_text())["complete"] is True
+
+
 def test_a_knob_that_shapes_the_bed_pours_a_bed_per_setting(tmp_path):
     """pack_each_setting: the particle count varies, so each setting runs from its own
     beds, poured with its fields; the plain plan would be refused by `ratchet run`."""
