@@ -296,14 +296,16 @@ def circulation(f: StageFields, cycles=None) -> Circulation:
 def cycles_to_steady(cycles: pd.DataFrame) -> dict:
     """The first cycle whose peak pressure lies in the steady band (BAND_SIGMAS,
     BAND_FLOOR) of the second half of the cycles. Returns {"cycle", "band", "mean",
-    "cycles"}; "cycle" is NaN with fewer than 2 cycles or no finite peak."""
+    "cycles", "rises"}; "cycle" is NaN with fewer than 2 cycles or no finite peak; "rises":
+    the first peak lies below the band (the pressure rises into its steady state, where the
+    paper's time scale of the rise is measured; at alpha_c/alpha_p = 1 the peaks fall)."""
     if cycles is None or not {"cycle", "peak_pressure"}.issubset(cycles.columns):
-        return {"cycle": math.nan, "band": math.nan, "mean": math.nan, "cycles": 0}
+        return {"cycle": math.nan, "band": math.nan, "mean": math.nan, "cycles": 0, "rises": False}
     frame = cycles.dropna(subset=["cycle", "peak_pressure"]).sort_values("cycle")
     frame = frame[np.isfinite(frame["peak_pressure"])]
     n = len(frame)
     if n < 2:
-        return {"cycle": math.nan, "band": math.nan, "mean": math.nan, "cycles": n}
+        return {"cycle": math.nan, "band": math.nan, "mean": math.nan, "cycles": n, "rises": False}
     peaks = frame["peak_pressure"].to_numpy(float)
     steady = peaks[n // 2:]
     mean = float(steady.mean())
@@ -311,7 +313,7 @@ def cycles_to_steady(cycles: pd.DataFrame) -> dict:
     band = max(BAND_SIGMAS * sigma, BAND_FLOOR * abs(mean))
     inside = np.nonzero(np.abs(peaks - mean) <= band)[0]
     first = float(frame["cycle"].to_numpy(float)[inside[0]]) if inside.size else math.nan
-    return {"cycle": first, "band": band, "mean": mean, "cycles": n}
+    return {"cycle": first, "band": band, "mean": mean, "cycles": n, "rises": bool(peaks[0] < mean - band)}
 
 
 def thermal_stages(temperature: np.ndarray) -> tuple[np.ndarray, list[np.ndarray]]:
@@ -640,11 +642,14 @@ def _trend_check(a, points, trends, check_id: str, key: str, direction: str) -> 
     d = trends.CHECKS[check_id]
     p = d.params(a.tier)
     check = d.check.format(x=a.x_label)
-    xs, ys, cycles, unseries = [], [], [], []
+    xs, ys, cycles, unseries, no_rise = [], [], [], [], 0
     for value, runs, measures in points:
         for m in measures:
             v = m[key]["cycle"] if key == "cycles_to_steady" else m[key].value
             cycles.append(m["cycles"])
+            if direction == "depends" and not m[key]["rises"]:  # no rise: no time scale of it
+                no_rise += 1
+                continue
             if math.isfinite(v):
                 xs.append(value)
                 ys.append(v)
@@ -655,8 +660,11 @@ def _trend_check(a, points, trends, check_id: str, key: str, direction: str) -> 
         return [trends._skip(a.case, d, check, f"runs of {fewest} cycle(s): the steady state needs "
                              f">= {p['min_cycles']:g} (the second half of the cycles is the steady band)",
                              a.tier)]
+    flat_start = (f"; {no_rise} run(s) whose peaks do not rise into the steady state (they fall "
+                  "or start in it) left out" if no_rise else "")
     if len(set(xs)) < 2 or len(xs) < 3:
         without = f"; {len(unseries)} run(s) without a V/V0 series ({unseries[0]})" if unseries else ""
+        without += flat_start
         return [trends._skip(a.case, d, check, f"{len(xs)} runs at {len(set(xs))} {a.x_label} value(s) "
                              "with a finite value; a slope with a standard error needs >= 3 runs at "
                              f">= 2 values{without}", a.tier)]
@@ -671,6 +679,7 @@ def _trend_check(a, points, trends, check_id: str, key: str, direction: str) -> 
     detail = {"k": k, "k_tier": k_tier, "dof": fit.dof, "slope": slope, "se": se, "slope_in_se": in_se, "n": len(xs),
               "points": len(set(xs)), "x": xs, "y": ys}
     left_out = f"; {len(unseries)} run(s) without a V/V0 series left out" if unseries else ""
+    left_out += flat_start
     fit_text = f"slope {slope:.3g} +- {se:.2g} ({in_se:.2g} SE, {len(xs)} runs at {len(set(xs))} values{left_out})"
     if unseries:
         detail["without_series"] = len(unseries)

@@ -66,14 +66,15 @@ def write_stage_fields(folder: Path, cycles=6, heating=slump, circulation=0.2, n
 
 
 def write_cycles(folder: Path, cycles=10, steady_from=3, p=10.0, v_low=0.97, dilation=0.005, swing=0.04,
-                 seed=0, series="volume.csv"):
-    """cycles.csv: peaks rising to p by cycle steady_from and flat after it (within 1 %);
+                 seed=0, series="volume.csv", start=0.3):
+    """cycles.csv: peaks going from start x p to p by cycle steady_from (rising for start
+    < 1, falling above) and flat after it (within 1 %);
     and the V/V0 series (volume_rows) as `series` (volume.csv or timeseries.csv; None:
     none), whose ends of heating and cooling cycles.csv repeats."""
     rng = np.random.default_rng(seed)
     folder.mkdir(parents=True, exist_ok=True)
     k = np.arange(cycles)
-    peak = np.where(k < steady_from, p * (0.3 + 0.7 * k / max(steady_from, 1)), p)
+    peak = np.where(k < steady_from, p * (start + (1 - start) * k / max(steady_from, 1)), p)
     peak = peak * (1 + 0.005 * rng.normal(size=cycles))
     rows = volume_rows(cycles, v_low, dilation, swing, seed=seed)
     per_cycle = sum(STAGE_ROWS)
@@ -406,6 +407,20 @@ def test_a_rise_whose_length_depends_on_the_ratio_passes_either_way_and_none_is_
     assert_against(by_tier(same, "ratio"), "steady_time_ratio")
     assert "no time scale set by" in results(same, "ratio")["steady_time_ratio"][0].reason
     assert "steady_time_ratio" not in results(build(tmp_path / "a", "angle", (0.0, 8.0)), "angle")
+
+
+def test_peaks_that_fall_into_the_steady_state_have_no_rise_to_time(tmp_path):
+    # The paper's ratio-1 beds: the peaks relax from above; their time to the band is no
+    # time scale of a rise, and counting it would pass the check on a fall.
+    def run(x, s):
+        return {"steady_from": 8, "start": 1.3} if x == 1.0 else {"steady_from": 3}
+    folder = build(tmp_path / "f", "ratio", (1.0, 5.0, 10.0), run=run)
+    found = results(folder, "ratio")["steady_time_ratio"][0]
+    assert found.status != "passed", found.reason   # 5 and 10 rise alike: no dependence left
+    assert "3 run(s) whose peaks do not rise into the steady state" in found.reason
+    only = build(tmp_path / "o", "ratio", (1.0, 10.0), run=run)
+    found = results(only, "ratio")["steady_time_ratio"][0]
+    assert found.status == "skipped" and "do not rise" in found.reason
 
 
 def test_a_rise_length_within_the_scatter_is_not_resolved(tmp_path):
