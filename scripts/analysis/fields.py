@@ -6,7 +6,7 @@ the (r, z) cells, both stages of a cycle binned where the grains were at the sta
 that cycle), its ``cycles.csv`` (peak pressure per cycle) and its V/V0 series
 (``timeseries.csv``, or the ``volume.csv`` a campaign stores). Per run this module
 returns numbers with uncertainties; ``checks(a)`` turns them into the CheckResults of the checks defined in trends.CHECKS (``stage_*``,
-``still_zone``, ``toroidal_cell``, ``steady_*``, ``cooling_dilation_ratio``).
+``still_zone``, ``toroidal_cell``, ``pmax_rise``, ``steady_*``, ``cooling_dilation_ratio``).
 
 Uncertainties: per run, the standard error over its cycles (the bed's own noise); per
 sweep point, the standard error over the realizations when there are at least two,
@@ -37,7 +37,7 @@ from .inputs import read_csv_columns, read_cycles, read_volume_series, run_dir
 
 #: The checks this module evaluates (their definitions: trends.CHECKS).
 CHECK_IDS = ("stage_heating_direction", "stage_cooling_direction", "still_zone", "toroidal_cell",
-             "steady_time_theta", "steady_time_ratio", "steady_volume_flat", "cooling_dilation_ratio")
+             "pmax_rise", "steady_time_theta", "steady_time_ratio", "steady_volume_flat", "cooling_dilation_ratio")
 STAGE_FILE = "stage_fields.csv"
 STAGE_COLUMNS = ("cycle", "ir", "iz", "r", "z", "count", "ur_heating", "uz_heating",
                  "ur_cooling", "uz_cooling")
@@ -296,16 +296,18 @@ def circulation(f: StageFields, cycles=None) -> Circulation:
 def cycles_to_steady(cycles: pd.DataFrame) -> dict:
     """The first cycle whose peak pressure lies in the steady band (BAND_SIGMAS,
     BAND_FLOOR) of the second half of the cycles. Returns {"cycle", "band", "mean",
-    "cycles", "rises"}; "cycle" is NaN with fewer than 2 cycles or no finite peak; "rises":
-    the first peak lies below the band (the pressure rises into its steady state, where the
-    paper's time scale of the rise is measured; at alpha_c/alpha_p = 1 the peaks fall)."""
+    "cycles", "rises", "rise"}; "cycle" is NaN with fewer than 2 cycles or no finite peak;
+    "rises": the first peak lies below the band (the pressure rises into its steady state,
+    where the paper's time scale of the rise is measured; at alpha_c/alpha_p = 1 the peaks
+    fall); "rise": (mean - first peak) / mean, NaN unless the mean is positive."""
+    none = {"cycle": math.nan, "band": math.nan, "mean": math.nan, "cycles": 0, "rises": False, "rise": math.nan}
     if cycles is None or not {"cycle", "peak_pressure"}.issubset(cycles.columns):
-        return {"cycle": math.nan, "band": math.nan, "mean": math.nan, "cycles": 0, "rises": False}
+        return none
     frame = cycles.dropna(subset=["cycle", "peak_pressure"]).sort_values("cycle")
     frame = frame[np.isfinite(frame["peak_pressure"])]
     n = len(frame)
     if n < 2:
-        return {"cycle": math.nan, "band": math.nan, "mean": math.nan, "cycles": n, "rises": False}
+        return {**none, "cycles": n}
     peaks = frame["peak_pressure"].to_numpy(float)
     steady = peaks[n // 2:]
     mean = float(steady.mean())
@@ -313,7 +315,9 @@ def cycles_to_steady(cycles: pd.DataFrame) -> dict:
     band = max(BAND_SIGMAS * sigma, BAND_FLOOR * abs(mean))
     inside = np.nonzero(np.abs(peaks - mean) <= band)[0]
     first = float(frame["cycle"].to_numpy(float)[inside[0]]) if inside.size else math.nan
-    return {"cycle": first, "band": band, "mean": mean, "cycles": n, "rises": bool(peaks[0] < mean - band)}
+    rise = (mean - peaks[0]) / mean if mean > 0 else math.nan
+    return {"cycle": first, "band": band, "mean": mean, "cycles": n, "rises": bool(peaks[0] < mean - band),
+            "rise": float(rise)}
 
 
 def thermal_stages(temperature: np.ndarray) -> tuple[np.ndarray, list[np.ndarray]]:
@@ -631,6 +635,47 @@ def _toroidal_checks(a, points, trends) -> list:
     return out
 
 
+def _rise_checks(a, points, trends) -> list:
+    """pmax_rise per point: the relative rise from the first cycle's peak to the steady
+    peaks, over the realizations (paired per run: the same bed's peaks)."""
+    d = trends.CHECKS["pmax_rise"]
+    p = d.params(a.tier)
+    level = p["level"]
+    out = []
+    for value, runs, measures in points:
+        check = d.check.format(point=a.point_label(value))
+        fewest = min((m["cycles"] for m in measures), default=0)
+        if fewest < p["min_cycles"]:
+            out.append(trends._skip(a.case, d, check, f"runs of {fewest} cycle(s): a first cycle and "
+                                    f"later ones to rise to need >= {p['min_cycles']:g}", a.tier))
+            continue
+        rises = [m["cycles_to_steady"]["rise"] for m in measures]
+        if not all(math.isfinite(r) for r in rises):
+            out.append(trends._skip(a.case, d, check, "a run without a positive steady peak pressure "
+                                    "(no pressure on the walls to rise)", a.tier))
+            continue
+        iv = interval(mean_se(rises, "realizations"), level)
+        text = _interval_text("r", iv)
+        per_run = ", ".join(f"{r}: {x:+.3g}" for r, x in zip(runs, rises))
+        side = _side(iv, 1.0)
+        if side == "shown":
+            status, why = "passed", ""
+        elif side == "opposite":
+            status = trends.against(a.tier)
+            why = (f"the peaks fall into their steady state: the steady peak is {-iv['value']:.0%} below "
+                   f"the first cycle's ({level:.0%} interval [{iv['low']:.3g}, {iv['high']:.3g}] below 0), "
+                   f"over {len(rises)} realization(s) on the {a.tier} tier's beds")
+        elif not math.isfinite(iv["low"]):
+            status, why = "unresolved", f"one realization (r = {rises[0]:+.3g}) gives no scatter estimate"
+        else:
+            status, why = "unresolved", f"the {level:.0%} interval [{iv['low']:.3g}, {iv['high']:.3g}] holds 0"
+        out.append(trends._result(
+            a, d, check, status, iv["value"], "> 0, resolved",
+            f"{level:.0%} interval above 0; {text}; r per run {per_run}", why,
+            {"level": level, "rise": iv, "per_run": rises, "runs": runs}))
+    return out
+
+
 def _trend_check(a, points, trends, check_id: str, key: str, direction: str) -> list:
     """A slope of a per-run number against the swept parameter over all runs, with the
     rules of trends._slope_check: "decrease"/"increase": passed beyond k SE on the paper's
@@ -741,6 +786,7 @@ def checks(a) -> list:
     out = _direction_checks(a, points, trends)
     out += _still_zone_checks(a, points, trends)
     out += _toroidal_checks(a, points, trends)
+    out += _rise_checks(a, points, trends)
     if a.kind == "angle":
         out += _trend_check(a, points, trends, "steady_time_theta", "cycles_to_steady", "decrease")
     out += _trend_check(a, points, trends, "steady_volume_flat", "steady_volume", "flat")

@@ -395,6 +395,34 @@ def test_steady_time_within_the_scatter_is_not_resolved(tmp_path):
     assert statuses(results(folder, "angle"), "steady_time_theta") == ["unresolved"]
 
 
+def test_peaks_rising_in_the_first_cycles_pass_and_falling_ones_are_against(tmp_path):
+    # Fig. 3a / 3c: "in the first regime ... the pressure increases", for all parameters.
+    def run(x, s):
+        return {"start": 1.3, "steady_from": 8} if x == 1.0 else {}
+    folder = build(tmp_path / "r", "ratio", (1.0, 10.0), run=run)
+    found = {r.check: r for r in results(folder, "ratio")["pmax_rise"]}
+    rising = found["P_max rises in the first cycles (alpha_c/alpha_p=10)"]
+    assert rising.status == "passed", rising.reason
+    assert rising.measured == pytest.approx(0.7, abs=0.02)   # the first peak is 0.3 of the steady one
+    falling = found["P_max rises in the first cycles (alpha_c/alpha_p=1)"]
+    assert falling.measured < 0 and "the peaks fall into their steady state" in falling.reason
+    only_falling = build(tmp_path / "f", "ratio", (1.0,), run=run)
+    assert_against(by_tier(only_falling, "ratio"), "pmax_rise")
+    angle = results(build(tmp_path / "a", "angle", (0.0, 6.0)), "angle")
+    assert statuses(angle, "pmax_rise") == ["passed", "passed"]   # a check of both studies
+
+
+def test_a_rise_within_the_scatter_or_of_one_bed_is_not_resolved(tmp_path):
+    mixed = build(tmp_path / "m", "angle", (0.0,), run=lambda x, s: {"start": (0.7, 1.2, 0.9)[s]})
+    found = results(mixed, "angle")["pmax_rise"][0]
+    assert found.status == "unresolved" and "holds 0" in found.reason, found.reason
+    one = build(tmp_path / "o", "angle", (0.0,), realizations=1)
+    found = results(one, "angle")["pmax_rise"][0]
+    assert found.status == "unresolved" and "no scatter estimate" in found.reason
+    short = build(tmp_path / "s", "angle", (0.0,), cycles=2)
+    assert statuses(results(short, "angle"), "pmax_rise") == ["skipped"]
+
+
 def test_a_rise_whose_length_depends_on_the_ratio_passes_either_way_and_none_is_against(tmp_path):
     # Fig. 3c: the ratio sets the time scale of the rise; the paper gives no direction.
     longer = build(tmp_path / "l", "ratio", (1.0, 5.0, 10.0), run=lambda x, s: {"steady_from": int(1 + 0.5 * x)})
