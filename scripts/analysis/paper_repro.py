@@ -28,7 +28,7 @@ from types import SimpleNamespace
 from campaign_lib import store
 from campaign_lib.assemble import assemble, lookup
 from campaign_lib.plan import Plan, PlanError, load_plan, same_json
-from campaign_lib.state import one_thread_seconds
+from campaign_lib.state import one_thread_seconds, point_medians
 from common.figures import figure_caption
 from common.fsutil import write_atomic
 from common.paths import REPO_ROOT
@@ -271,12 +271,8 @@ def survey(plan: Plan, results: Path) -> Runs:
     # threads spent twice its wall in CPU).
     cost = {label: one_thread_seconds(s.provenance) for label, s in used.items()}
     cpu = [c for c in cost.values() if c is not None]
-    point_seconds = {}
-    for point in plan.points:
-        own = [cost[r.label] for r in plan.runs
-               if r.point.name == point and cost.get(r.label) is not None]
-        if own:
-            point_seconds[point] = statistics.median(own)
+    point_seconds = {point: median for point, (median, _) in point_medians(
+        (r.point.name, cost[r.label]) for r in plan.runs if cost.get(r.label) is not None).items()}
     if cpu:
         seconds, source = statistics.median(cpu), f"the median of {len(cpu)} stored run(s)"
     else:

@@ -109,6 +109,16 @@ def one_thread_seconds(provenance: dict) -> float | None:
 MIN_OWN_RUNS = 3
 
 
+def point_medians(costs) -> dict:
+    """The median one-thread seconds of each point's stored runs, from (point, seconds)
+    pairs: point -> (median, runs). The campaign's estimate and scripts/paper-repro's
+    "still to run" both cost a point by its own runs with it."""
+    per_point: dict = {}
+    for point, seconds in costs:
+        per_point.setdefault(point, []).append(seconds)
+    return {point: (float(statistics.median(own)), len(own)) for point, own in per_point.items()}
+
+
 def estimate(plan: Plan, states: list, engine: Engine, override_hours: float | None,
              threads: int = 1) -> Estimate:
     """Wall seconds of one run on `threads` threads and a free core each (what --budget
@@ -123,11 +133,8 @@ def estimate(plan: Plan, states: list, engine: Engine, override_hours: float | N
     measured = [(one_thread_seconds(s.stored.provenance), s.stored.provenance.get("engine", {}), s.run.point.name)
                 for s in states if s.stored]
     measured = [(c, e, p) for c, e, p in measured if c is not None]
-    by_point = {}
-    for point in dict.fromkeys(p for _, _, p in measured):
-        own = [c for c, _, p in measured if p == point]
-        by_point[point] = (float(statistics.median(own)) * factor,
-                           f"median CPU time of {len(own)} stored run(s) of {point}{on}")
+    by_point = {point: (median * factor, f"median CPU time of {runs} stored run(s) of {point}{on}")
+                for point, (median, runs) in point_medians((p, c) for c, _, p in measured).items()}
     mine = [c for c, e, _ in measured if same_engine(e, engine.record())]
     if len(mine) < MIN_OWN_RUNS:
         mine = []
