@@ -141,6 +141,9 @@ _K_MONOTONE_REASONS = {
              "for a normal estimate (5 realizations per point)",
 }
 _LEVEL = {"quick": {"level": 0.95}, "standard": {"level": 0.95}, "paper": {"level": 0.95}}
+#: Per-run first-against-later checks: a first cycle and at least two after it.
+_LEVEL_3_CYCLES = {"quick": {"level": 0.95, "min_cycles": 3}, "standard": {"level": 0.95, "min_cycles": 3},
+                   "paper": {"level": 0.95, "min_cycles": 3}}
 _CURVATURE_REASONS = {
     "quick": "level 0.95 as at every tier: single beds per point leave a wide scatter, "
              "which reads 'a line fits as well' rather than a looser pass",
@@ -316,8 +319,7 @@ CHECKS: dict[str, CheckDef] = {c.id: c for c in (
              "d_first (measured); pass: d_first > 0 and d_last - d_first < 0, both resolved; "
              "opposite resolved: d_last - d_first > 0 or d_first < 0 resolved; else (or one "
              "realization) not resolved; needs N >= min_cycles",
-        tolerance={"quick": {"level": 0.95, "min_cycles": 3}, "standard": {"level": 0.95, "min_cycles": 3},
-                   "paper": {"level": 0.95, "min_cycles": 3}},
+        tolerance=_LEVEL_3_CYCLES,
         reason="paper: compaction in the first cycles followed by a saturation that matches "
                "the pressure's steady state (Fig. 4)",
         tier_reasons={
@@ -430,8 +432,7 @@ CHECKS.update({c.id: c for c in (
              "resolved: the interval below 0 (the peaks fall into their steady state); else "
              "(or one realization) not resolved; skipped below min_cycles or without a "
              "positive steady peak",
-        tolerance={"quick": {"level": 0.95, "min_cycles": 3}, "standard": {"level": 0.95, "min_cycles": 3},
-                   "paper": {"level": 0.95, "min_cycles": 3}},
+        tolerance=_LEVEL_3_CYCLES,
         reason="paper: 'two regimes appear for all parameters. In the first regime, i.e., during "
                "the first cycles, the pressure increases' (Fig. 3a, 3c), because the bed compacts",
         tier_reasons={
