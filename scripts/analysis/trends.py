@@ -274,6 +274,24 @@ CHECKS: dict[str, CheckDef] = {c.id: c for c in (
                "energy scales with the square of the strain (Fig. 7b)",
         tier_reasons=_CURVATURE_REASONS),
     CheckDef(
+        id="wrms_ratio_bend_later", sweep="ratio",
+        check="W_rms curvature vs alpha_c/alpha_p, last window against the first",
+        figure="Fig. 7b",
+        rule="the first and last vorticity windows (of the same length, as wrms_early_larger); "
+             "per run d = W_rms(last) / mean W_rms(last) - W_rms(first) / mean W_rms(first), "
+             "each window scaled by its mean over the runs (the later window's vorticity is "
+             "smaller: the shape is compared, not the size); quadratic fit of d against the "
+             "ratio, paired per run: its c2 is the later window's relative curvature minus the "
+             "earlier's; t test of c2 (as the F test of pmax_ratio_quadratic, n - 3 dof): pass "
+             "c2 > 0 with p < 1 - level and the later window bending up (its own c2 > 0, as the "
+             "paper's quadratic); opposite resolved: c2 < 0 with p < 1 - level; else not "
+             "resolved; needs >= 4 ratios and >= 4 runs",
+        tolerance=_LEVEL,
+        reason="paper: 'the magnitude of the vorticity increases monotonically with alpha_c and "
+               "the deviation from the linear approximation is stronger in the steady state, "
+               "i.e., after the first 10 cycles' (Fig. 7b), read along its rising quadratic",
+        tier_reasons=_CURVATURE_REASONS),
+    CheckDef(
         id="wrms_early_larger", sweep="both", check="W_rms first window > last ({point})",
         figure="Fig. 6 text, Fig. 7a text",
         rule="per run, d = W_rms of the first vorticity window minus that of the last (summary.csv, "
@@ -1081,18 +1099,10 @@ def _vorticity_decline_checks(a: Analysis) -> list[CheckResult]:
     definition = CHECKS["wrms_early_larger"]
     level = definition.params(a.tier)["level"]
     points = sorted(a.data[a.x].dropna().unique())
-    windows = a.sweep.windows
-    if len(windows) < 2:
-        return [_skip(a.case, definition, definition.check.format(point="all points"),
-                      f"{len(windows)} vorticity window(s) in summary.csv; the order needs two", a.tier)]
-    first = min(windows, key=lambda w: (w.first, w.last))
-    last = max(windows, key=lambda w: (w.last, w.first))
-    if first.last - first.first != last.last - last.first:
-        # The accumulated displacement grows with the cycles a window sums: windows of
-        # unequal length would order W_rms by their length, not by the bed's state.
-        return [_skip(a.case, definition, definition.check.format(point="all points"),
-                      f"the first and last vorticity windows ({first.label}, {last.label}) span "
-                      "different numbers of cycles; the paper compares two of 10", a.tier)]
+    pair, why_not = _first_and_last_windows(a.sweep.windows)
+    if pair is None:
+        return [_skip(a.case, definition, definition.check.format(point="all points"), why_not, a.tier)]
+    first, last = pair
     out = []
     for value in points:
         check = definition.check.format(point=a.point_label(value))
@@ -1127,6 +1137,76 @@ def _vorticity_decline_checks(a: Analysis) -> list[CheckResult]:
                        f"interval [{stat['low']:.3g}, {stat['high']:.3g}] holds 0")
         out.append(_result(a, definition, check, status, stat["mean"], "> 0", tolerance, why, detail))
     return out
+
+
+def _first_and_last_windows(windows):
+    """The earliest and the latest vorticity window, or None with why not: fewer than two,
+    or of unequal length (the accumulated displacement grows with the cycles a window
+    sums: windows of unequal length would order W_rms by their length, not by the bed's
+    state)."""
+    if len(windows) < 2:
+        return None, f"{len(windows)} vorticity window(s) in summary.csv; the comparison needs two"
+    first = min(windows, key=lambda w: (w.first, w.last))
+    last = max(windows, key=lambda w: (w.last, w.first))
+    if first.last - first.first != last.last - last.first:
+        return None, (f"the first and last vorticity windows ({first.label}, {last.label}) span "
+                      "different numbers of cycles; the paper compares two of 10")
+    return (first, last), ""
+
+
+def _vorticity_bend_check(a: Analysis) -> CheckResult:
+    """wrms_ratio_bend_later: the later window's relative curvature against the earlier's,
+    paired per run (one quadratic fit of the difference of the scaled W_rms)."""
+    definition = CHECKS["wrms_ratio_bend_later"]
+    check = definition.check
+    level = definition.params(a.tier)["level"]
+    alpha = 1.0 - level
+    pair, why_not = _first_and_last_windows(a.sweep.windows)
+    if pair is None:
+        return _skip(a.case, definition, check, why_not, a.tier)
+    first, last = pair
+    if first.column not in a.data.columns or last.column not in a.data.columns:
+        return _skip(a.case, definition, check, f"no column {first.column} or {last.column} in summary.csv",
+                     a.tier)
+    values = a.data[[a.x, first.column, last.column]].apply(pd.to_numeric, errors="coerce")
+    values = values[np.isfinite(values).all(axis=1)]
+    points = int(values[a.x].nunique())
+    if points < 4 or len(values) < 4:
+        return _skip(a.case, definition, check,
+                     f"{points} {a.x_label} value(s) and {len(values)} runs with both windows' W_rms; "
+                     "the curvature needs >= 4 values and >= 4 runs", a.tier)
+    early_mean, late_mean = float(values[first.column].mean()), float(values[last.column].mean())
+    if not (early_mean > 0 and late_mean > 0):
+        return _skip(a.case, definition, check, "a window's mean W_rms is not positive (no vorticity to "
+                     "scale by)", a.tier)
+    early, late = values[first.column] / early_mean, values[last.column] / late_mean
+    test = fits.curvature_test(values[a.x], late - early)
+    late_c2 = float(fits.quadratic_fit(values[a.x], late).coef[2])
+    early_c2 = float(fits.quadratic_fit(values[a.x], early).coef[2])
+    c2, se, t, p_value, dof = test["c2"], test["se"], test["t"], test["p"], test["dof"]
+    detail = {"c2": c2, "se": se, "t": t, "p": p_value, "dof": dof, "level": level, "points": points,
+              "n": int(len(values)), "first": first.label, "last": last.label,
+              "c2_first": early_c2, "c2_last": late_c2, "mean_first": early_mean, "mean_last": late_mean}
+    shapes = (f"relative curvature {early_c2:.3g} ({first.label}) and {late_c2:.3g} ({last.label}) per "
+              "unit ratio squared")
+    tolerance = (f"t test of the difference's c2 p < {alpha:.2g} (p = {p_value:.3g}; c2 {c2:.4g} +- "
+                 f"{se:.2g}, {t:.2g} SE, {dof} dof); {shapes}")
+    if p_value < alpha and c2 > 0 and late_c2 > 0:
+        status, why = "passed", ""
+    elif p_value < alpha and c2 < 0:
+        status = against(a.tier)
+        why = (f"the later window bends less upward than the earlier: the difference of their relative "
+               f"curvatures is {c2:.3g} +- {se:.2g} ({t:.2g} SE, p = {p_value:.3g}), {shapes}, "
+               f"on the {a.tier} tier's beds")
+    elif p_value < alpha:
+        status = "unresolved"
+        why = (f"the later window's curvature exceeds the earlier's ({c2:.3g} +- {se:.2g}) but it does "
+               f"not bend upward itself ({shapes})")
+    else:
+        status = "unresolved"
+        why = (f"the two windows' shapes are within the scatter: the difference of their relative "
+               f"curvatures is {c2:.3g} +- {se:.2g} ({t:.2g} SE, p = {p_value:.3g} >= {alpha:.2g})")
+    return _result(a, definition, check, status, c2, "> 0, resolved", tolerance, why, detail)
 
 
 def analyse(sweep: Sweep, kind: str, tier: str, case: str | None = None) -> Analysis:
@@ -1168,6 +1248,8 @@ def analyse(sweep: Sweep, kind: str, tier: str, case: str | None = None) -> Anal
             else:
                 a.results.append(_slope_check(a, w_def, window.column, check, direction))
     a.results.extend(_vorticity_decline_checks(a))
+    if kind == "ratio":
+        a.results.append(_vorticity_bend_check(a))
     a.results.extend(_volume_checks(a))
     from . import fields  # Fig. 5, Fig. 6, steady state; it imports this module
     a.results.extend(fields.checks(a))

@@ -201,7 +201,7 @@ def analyse(folder, kind, tier="paper"):
 def test_every_check_has_a_tolerance_and_a_reason_for_every_tier():
     assert set(trends.CHECKS) == {"pmax_steady", "pmax_theta_slope", "pmax_ratio_6_0",
                                   "pmax_ratio_slope", "pmax_ratio_quadratic", "wrms_theta_flat",
-                                  "wrms_ratio_slope", "wrms_ratio_quadratic", "wrms_early_larger",
+                                  "wrms_ratio_slope", "wrms_ratio_quadratic", "wrms_ratio_bend_later", "wrms_early_larger",
                                   "volume_end",
                                   "volume_saturation", *fields.CHECK_IDS}
     for definition in trends.CHECKS.values():
@@ -217,7 +217,7 @@ def test_a_pass_demands_the_same_confidence_at_every_tier():
     c = trends.CHECKS
     for check_id in ("pmax_theta_slope", "pmax_ratio_slope", "wrms_ratio_slope"):
         assert {c[check_id].params(t)["k"] for t in trends.TIERS} == {2.0}, check_id
-    for check_id in ("pmax_steady", "pmax_ratio_6_0", "pmax_ratio_quadratic", "wrms_ratio_quadratic",
+    for check_id in ("pmax_steady", "pmax_ratio_6_0", "pmax_ratio_quadratic", "wrms_ratio_quadratic", "wrms_ratio_bend_later",
                      "wrms_early_larger", "volume_end", "volume_saturation"):
         assert {c[check_id].params(t)["level"] for t in trends.TIERS} == {0.95}, check_id
     band = {(c["pmax_ratio_6_0"].params(t)["target"], c["pmax_ratio_6_0"].params(t)["half_width"])
@@ -336,7 +336,9 @@ def test_an_angle_sweep_with_the_papers_trends_passes(tmp_path):
 
 
 #: W_rms rising quadratically with the ratio, 30 % larger in the first window (Figs. 6, 7b).
-PAPER_WRMS_RATIO = {(0, 3): lambda x: 1.3 * (0.01 + 0.0004 * x ** 2), (3, 6): lambda x: 0.01 + 0.0004 * x ** 2}
+# Fig. 7b: both windows rise roughly quadratically, the later one smaller (Fig. 6) and
+# further from a line (its curvature relative to its size about twice the earlier's).
+PAPER_WRMS_RATIO = {(0, 3): lambda x: 0.03 + 0.004 * x + 0.0003 * x ** 2, (3, 6): lambda x: 0.01 + 0.0004 * x ** 2}
 
 
 def test_a_ratio_sweep_with_the_papers_trends_passes(tmp_path):
@@ -810,11 +812,34 @@ def test_missing_angles_and_columns_skip(tmp_path):
     assert statuses(a, "volume_saturation") == ["skipped"]   # no runs/ folder
 
 
+def test_a_later_window_bending_more_passes_and_one_bending_less_is_against(tmp_path):
+    # Fig. 7b: "the deviation from the linear approximation is stronger in the steady state".
+    folder = build_sweep(tmp_path / "p", "ratio", RATIOS, rising_quadratic, wrms=PAPER_WRMS_RATIO)
+    found = results_by_id(analyse(folder, "ratio"))["wrms_ratio_bend_later"]
+    assert [r.status for r in found] == ["passed"], found[0].reason
+    assert found[0].detail["c2_last"] > found[0].detail["c2_first"] > 0
+    swapped = {(0, 3): lambda x: 3.0 * (0.01 + 0.0004 * x ** 2), (3, 6): lambda x: 0.03 + 0.004 * x + 0.0003 * x ** 2}
+    folder = build_sweep(tmp_path / "s", "ratio", RATIOS, rising_quadratic, wrms=swapped)
+    assert statuses(analyse(folder, "ratio", "quick"), "wrms_ratio_bend_later") == ["contradicted"]
+    failed = results_by_id(analyse(folder, "ratio", "paper"))["wrms_ratio_bend_later"][0]
+    assert failed.status == "failed" and "bends less upward than the earlier" in failed.reason
+
+
+def test_windows_of_the_same_shape_do_not_resolve_which_bends_more(tmp_path):
+    same = {(0, 3): lambda x: 1.3 * (0.01 + 0.0004 * x ** 2), (3, 6): lambda x: 0.01 + 0.0004 * x ** 2}
+    folder = build_sweep(tmp_path / "r", "ratio", RATIOS, rising_quadratic, wrms=same)
+    found = results_by_id(analyse(folder, "ratio"))["wrms_ratio_bend_later"][0]
+    assert found.status == "unresolved" and "within the scatter" in found.reason
+    assert "wrms_ratio_bend_later" not in results_by_id(analyse(
+        build_sweep(tmp_path / "a", "angle", ANGLES, halving), "angle"))
+
+
 def test_three_ratios_skip_the_curvature_check(tmp_path):
     folder = build_sweep(tmp_path / "r", "ratio", (1.0, 10.0, 20.0), rising_quadratic)
     a = analyse(folder, "ratio")
     assert statuses(a, "pmax_ratio_quadratic") == ["skipped"]
     assert set(statuses(a, "wrms_ratio_quadratic")) == {"skipped"}
+    assert statuses(a, "wrms_ratio_bend_later") == ["skipped"]
     assert statuses(a, "pmax_ratio_slope") == ["passed"]
 
 
