@@ -6,7 +6,7 @@ the (r, z) cells, both stages of a cycle binned where the grains were at the sta
 that cycle), its ``cycles.csv`` (peak pressure per cycle) and its V/V0 series
 (``timeseries.csv``, or the ``volume.csv`` a campaign stores). Per run this module
 returns numbers with uncertainties; ``checks(a)`` turns them into the CheckResults of the checks defined in trends.CHECKS (``stage_*``,
-``still_zone``, ``toroidal_cell``, ``pmax_rise``, ``steady_*``, ``cooling_dilation_ratio``).
+``still_zone``, ``toroidal_cell``, ``pmax_rise``, ``steady_*``, ``cooling_dilation_*``).
 
 Uncertainties: per run, the standard error over its cycles (the bed's own noise); per
 sweep point, the standard error over the realizations when there are at least two,
@@ -37,7 +37,8 @@ from .inputs import read_csv_columns, read_cycles, read_volume_series, run_dir
 
 #: The checks this module evaluates (their definitions: trends.CHECKS).
 CHECK_IDS = ("stage_heating_direction", "stage_cooling_direction", "still_zone", "toroidal_cell",
-             "pmax_rise", "steady_time_theta", "steady_time_ratio", "steady_volume_flat", "cooling_dilation_ratio")
+             "pmax_rise", "steady_time_theta", "steady_time_ratio", "steady_volume_flat", "cooling_dilation_ratio",
+             "cooling_dilation_present")
 STAGE_FILE = "stage_fields.csv"
 STAGE_COLUMNS = ("cycle", "ir", "iz", "r", "z", "count", "ur_heating", "uz_heating",
                  "ur_cooling", "uz_cooling")
@@ -635,6 +636,14 @@ def _toroidal_checks(a, points, trends) -> list:
     return out
 
 
+def _too_few_cycles(a, d, check: str, measures: list[dict], minimum: float, need: str, trends):
+    """The skip of a per-point check whose shortest run has fewer than `minimum` cycles, or None."""
+    fewest = min((m["cycles"] for m in measures), default=0)
+    if fewest >= minimum:
+        return None
+    return trends._skip(a.case, d, check, f"runs of {fewest} cycle(s): {need} needs >= {minimum:g}", a.tier)
+
+
 def _rise_checks(a, points, trends) -> list:
     """pmax_rise per point: the relative rise from the first cycle's peak to the steady
     peaks, over the realizations (paired per run: the same bed's peaks)."""
@@ -644,10 +653,10 @@ def _rise_checks(a, points, trends) -> list:
     out = []
     for value, runs, measures in points:
         check = d.check.format(point=a.point_label(value))
-        fewest = min((m["cycles"] for m in measures), default=0)
-        if fewest < p["min_cycles"]:
-            out.append(trends._skip(a.case, d, check, f"runs of {fewest} cycle(s): a first cycle and "
-                                    f"later ones to rise to need >= {p['min_cycles']:g}", a.tier))
+        short = _too_few_cycles(a, d, check, measures, p["min_cycles"], "a first cycle and later ones to rise to",
+                                trends)
+        if short is not None:
+            out.append(short)
             continue
         rises = [m["cycles_to_steady"]["rise"] for m in measures]
         if not all(math.isfinite(r) for r in rises):
@@ -673,6 +682,47 @@ def _rise_checks(a, points, trends) -> list:
             a, d, check, status, iv["value"], "> 0, resolved",
             f"{level:.0%} interval above 0; {text}; r per run {per_run}", why,
             {"level": level, "rise": iv, "per_run": rises, "runs": runs}))
+    return out
+
+
+def _dilation_present_checks(a, points, trends) -> list:
+    """cooling_dilation_present per point of the angle study: the dilation during cooling
+    above d_min, over the realizations (or one run's steady cycles)."""
+    d = trends.CHECKS["cooling_dilation_present"]
+    p = d.params(a.tier)
+    level, d_min = p["level"], p["d_min"]
+    out = []
+    for value, runs, measures in points:
+        check = d.check.format(point=a.point_label(value))
+        short = _too_few_cycles(a, d, check, measures, p["min_cycles"], "the steady state", trends)
+        if short is not None:
+            out.append(short)
+            continue
+        with_series = [(r, m["cooling_dilation"]) for r, m in zip(runs, measures)
+                       if math.isfinite(m["cooling_dilation"].value)]
+        unseries = len(runs) - len(with_series)
+        left_out = f"; {unseries} run(s) without a V/V0 series left out" if unseries else ""
+        if not with_series:
+            out.append(trends._skip(a.case, d, check, f"no run with a V/V0 series{left_out}", a.tier))
+            continue
+        iv = interval(combine([e for _, e in with_series]), level)
+        text = _interval_text("dilation", iv) + left_out
+        if not math.isfinite(iv["low"]):
+            status, why = "unresolved", "one run of one steady cycle gives no scatter estimate"
+        elif iv["low"] > d_min:
+            status, why = "passed", ""
+        elif iv["high"] < d_min:
+            status = trends.against(a.tier)
+            why = (f"no visible dilation: V/V0 rises by {iv['value']:.2g} in a cooling, the {level:.0%} "
+                   f"interval [{iv['low']:.2g}, {iv['high']:.2g}] below {d_min:g}, over {len(with_series)} "
+                   f"realization(s) on the {a.tier} tier's beds")
+        else:
+            status, why = "unresolved", f"the {level:.0%} interval [{iv['low']:.2g}, {iv['high']:.2g}] holds {d_min:g}"
+        out.append(trends._result(
+            a, d, check, status, iv["value"], f"> {d_min:g}, resolved",
+            f"{level:.0%} interval above {d_min:g}; {text}", why,
+            {"level": level, "d_min": d_min, "dilation": iv, "runs": [r for r, _ in with_series],
+             "without_series": unseries}))
     return out
 
 
@@ -789,6 +839,7 @@ def checks(a) -> list:
     out += _rise_checks(a, points, trends)
     if a.kind == "angle":
         out += _trend_check(a, points, trends, "steady_time_theta", "cycles_to_steady", "decrease")
+        out += _dilation_present_checks(a, points, trends)
     out += _trend_check(a, points, trends, "steady_volume_flat", "steady_volume", "flat")
     if a.kind == "ratio":
         out += _trend_check(a, points, trends, "steady_time_ratio", "cycles_to_steady", "depends")

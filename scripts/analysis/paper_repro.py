@@ -107,7 +107,7 @@ STATEMENTS = (
               "We observe a decrease in the volume [...] for the first few cycles during the "
               "compaction regime, which is followed by a saturation [...] dilatation is present "
               "for all angles theta_c.",
-              ("angle",), ("volume_end", "volume_saturation", "steady_volume_flat"),
+              ("angle",), ("volume_end", "volume_saturation", "steady_volume_flat", "cooling_dilation_present"),
               (("angle", "volume"),)),
     Statement("fig4b", "Fig. 4b", "Bed volume over the cycles at each expansion ratio",
               "we observe that the magnitude of dilatation decreases with decreasing alpha_c.",

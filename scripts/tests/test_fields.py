@@ -491,6 +491,27 @@ def test_cooling_dilation_weaker_at_small_ratio_passes_and_the_reverse_is_agains
     assert statuses(results(flat, "ratio"), "cooling_dilation_ratio") == ["unresolved"]
 
 
+def test_dilation_during_cooling_at_every_angle_passes_and_none_is_against(tmp_path):
+    # Fig. 4a: "dilatation is present for all angles theta_c".
+    present = results(build(tmp_path / "p", "angle", (0.0, 6.0), run=lambda x, s: {"dilation": 0.005}), "angle")
+    assert statuses(present, "cooling_dilation_present") == ["passed", "passed"]
+    assert present["cooling_dilation_present"][0].measured == pytest.approx(0.005, rel=0.2)
+    none = build(tmp_path / "n", "angle", (0.0,), run=lambda x, s: {"dilation": 0.0})
+    assert_against(by_tier(none, "angle"), "cooling_dilation_present")
+    assert "no visible dilation" in results(none, "angle")["cooling_dilation_present"][0].reason
+    assert "cooling_dilation_present" not in results(build(tmp_path / "r", "ratio", (1.0, 10.0)), "ratio")
+
+
+def test_dilation_near_the_visible_floor_or_without_a_series_is_not_resolved(tmp_path):
+    near = build(tmp_path / "m", "angle", (0.0,), run=lambda x, s: {"dilation": (0.0005, 0.0015, 0.001)[s]})
+    found = results(near, "angle")["cooling_dilation_present"][0]
+    assert found.status == "unresolved" and "holds 0.001" in found.reason, found.reason
+    none = build(tmp_path / "n", "angle", (0.0,), run=lambda x, s: {"series": None})
+    assert statuses(results(none, "angle"), "cooling_dilation_present") == ["skipped"]
+    short = build(tmp_path / "s", "angle", (0.0,), cycles=4)
+    assert statuses(results(short, "angle"), "cooling_dilation_present") == ["skipped"]
+
+
 def test_a_swing_growing_with_the_ratio_is_not_a_dilation(tmp_path):
     # The container's contraction grows with alpha_c: under the measure of 2026-11-27 (the
     # ends of heating and cooling) this sweep passed; the grains dilate alike at every ratio.

@@ -59,9 +59,10 @@ def steady_then_noisy(p_max, cycles, rng, scatter=0.03):
 
 def write_run(folder: Path, p_max: float, cycles: int, *, volume=True, timeseries=True,
               displacement=True, curve=None, peaks=None, seed=0, volume_noise=0.0005,
-              steady_cycles=None):
+              steady_cycles=None, dilation=0.005):
     """One run folder; peaks(p_max, cycles, rng) gives the per-cycle peak pressures
-    (default steady_then_noisy); steady_cycles [a, b] writes run.json's summary."""
+    (default steady_then_noisy); steady_cycles [a, b] writes run.json's summary; V/V0
+    rises by `dilation` over the second half of each cooling (Fig. 4a), back at the hold."""
     folder.mkdir(parents=True, exist_ok=True)
     rng = np.random.default_rng(1000 + seed)
     period = 4.0
@@ -77,7 +78,8 @@ def write_run(folder: Path, p_max: float, cycles: int, *, volume=True, timeserie
         if volume:
             # The bed reaches the cycle's end value once cooled (from 3/4 of the period).
             index = np.minimum((t // period).astype(int) + (phase >= 0.75), cycles)
-            series["V_over_V0"] = np.concatenate([[1.0], ends])[index] * (1 + 3e-4 * T / 100)
+            rise = dilation * np.clip((phase - 0.625) / 0.125, 0.0, 1.0) * (phase < 0.75)
+            series["V_over_V0"] = np.concatenate([[1.0], ends])[index] * (1 + 3e-4 * T / 100) + rise
         pd.DataFrame(series).to_csv(folder / "timeseries.csv", index=False)
     rows = {"cycle": np.arange(cycles)}
     rows["t_peak"] = (rows["cycle"] + 0.75) * period
@@ -218,11 +220,13 @@ def test_a_pass_demands_the_same_confidence_at_every_tier():
     for check_id in ("pmax_theta_slope", "pmax_ratio_slope", "wrms_ratio_slope"):
         assert {c[check_id].params(t)["k"] for t in trends.TIERS} == {2.0}, check_id
     for check_id in ("pmax_steady", "pmax_ratio_6_0", "pmax_ratio_quadratic", "wrms_ratio_quadratic", "wrms_ratio_bend_later",
+                     "pmax_rise", "cooling_dilation_present",
                      "wrms_early_larger", "volume_end", "volume_saturation"):
         assert {c[check_id].params(t)["level"] for t in trends.TIERS} == {0.95}, check_id
     band = {(c["pmax_ratio_6_0"].params(t)["target"], c["pmax_ratio_6_0"].params(t)["half_width"])
             for t in trends.TIERS}
     assert band == {(0.5, 0.15)}   # the paper's band, 0.35-0.65, at every tier
+    assert {c["cooling_dilation_present"].params(t)["d_min"] for t in trends.TIERS} == {1e-3}
     flat = [c["wrms_theta_flat"].params(t)["k"] for t in ("quick", "standard", "paper")]
     assert flat[0] >= flat[1] >= flat[2]   # a larger k resolves a dependence less readily
 
