@@ -138,7 +138,8 @@ STATEMENTS = (
               "function [...] the magnitude of the vorticity increases monotonically with alpha_c "
               "and the deviation from the linear approximation is stronger in the steady state, "
               "i.e., after the first 10 cycles.",
-              ("ratio",), ("wrms_ratio_slope", "wrms_ratio_quadratic", "wrms_ratio_bend_later"),
+              ("ratio",), ("wrms_ratio_slope", "wrms_ratio_monotone", "wrms_ratio_quadratic",
+                          "wrms_ratio_bend_later"),
               (("ratio", "W_rms"),)),
 )
 

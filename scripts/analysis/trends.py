@@ -274,6 +274,28 @@ CHECKS: dict[str, CheckDef] = {c.id: c for c in (
                "energy scales with the square of the strain (Fig. 7b)",
         tier_reasons=_CURVATURE_REASONS),
     CheckDef(
+        id="wrms_ratio_monotone", sweep="ratio",
+        check="W_rms[{window}] rises at every step of alpha_c/alpha_p",
+        figure="Fig. 7b",
+        rule="per vorticity window, between each two neighbouring ratios the difference of the "
+             "realizations' mean W_rms, Welch's t test (scipy.stats.ttest_ind, unequal variances): "
+             "pass when every step rises with one-sided p < (1 - level) / 2 (each step shown, so "
+             "all of them are at that level); opposite resolved: a step falls with one-sided "
+             "p < (1 - level) / (2 m), m the number of steps (Bonferroni: the lowest of m tests); "
+             "else not resolved (a point of one realization leaves its steps so); needs >= 3 ratios",
+        tolerance=_LEVEL,
+        reason="paper: 'the magnitude of the vorticity increases monotonically with alpha_c' "
+               "(Fig. 7b): a line can rise across the range over a step down, which the slope "
+               "check does not see",
+        tier_reasons={
+            "quick": "level 0.95 as at every tier: one bed per point leaves each step without a "
+                     "scatter estimate, not resolved",
+            "standard": "level 0.95: the standard sweeps' one or two realizations per point leave "
+                        "a step untested (one) or give each side of it 1 dof (two), so only a clear "
+                        "step is resolved",
+            "paper": "level 0.95: the paper gives no number; 5 realizations per point, Welch's t "
+                     "with up to 8 dof per step"}),
+    CheckDef(
         id="wrms_ratio_bend_later", sweep="ratio",
         check="W_rms curvature vs alpha_c/alpha_p, last window against the first",
         figure="Fig. 7b",
@@ -998,6 +1020,61 @@ def _curvature_check(a: Analysis, definition: CheckDef, metric: str, check: str)
                    why, detail)
 
 
+def _monotone_check(a: Analysis, definition: CheckDef, metric: str, check: str) -> CheckResult:
+    """Every step between neighbouring x values rises, each by Welch's t test; a resolved
+    fall at any step (Bonferroni over the steps) is against the paper."""
+    level = definition.params(a.tier)["level"]
+    alpha = 1.0 - level
+    if metric not in a.data.columns:
+        return _skip(a.case, definition, check, f"no column {metric} in summary.csv", a.tier)
+    values = _values(a.data, a.x, metric)
+    xs = sorted(values[a.x].unique())
+    if len(xs) < 3:
+        return _skip(a.case, definition, check,
+                     f"{len(xs)} {a.x_label} value(s) with a finite {metric}; steps need >= 3 values "
+                     "(with 2 the slope check says it)", a.tier)
+    m = len(xs) - 1
+    steps = []
+    for low, high in zip(xs[:-1], xs[1:]):
+        below = values.loc[np.isclose(values[a.x], low), metric].to_numpy(dtype=float)
+        above = values.loc[np.isclose(values[a.x], high), metric].to_numpy(dtype=float)
+        step = {"from": float(low), "to": float(high), "n": [int(len(below)), int(len(above))],
+                "d": float(above.mean() - below.mean()), "p_rise": math.nan, "p_fall": math.nan}
+        if len(below) >= 2 and len(above) >= 2:
+            for key, side in (("p_rise", "greater"), ("p_fall", "less")):
+                step[key] = float(stats.ttest_ind(above, below, equal_var=False, alternative=side).pvalue)
+        steps.append(step)
+    shown, refuted = alpha / 2.0, alpha / (2.0 * m)
+    rises = [s for s in steps if s["p_rise"] < shown]
+    falls = [s for s in steps if s["p_fall"] < refuted]
+    d_min = min(s["d"] for s in steps)
+    name = lambda s: f"{s['from']:g} to {s['to']:g}"  # noqa: E731
+    detail = {"level": level, "steps": steps, "p_rise_max": shown, "p_fall_max": refuted}
+    tolerance = (f"Welch t per step: every rise one-sided p < {shown:.3g}; a fall at p < {refuted:.3g} "
+                 f"(Bonferroni over {m} steps) is against; step p (rise) "
+                 + ", ".join(f"{name(s)}: " + (f"{s['p_rise']:.2g}" if math.isfinite(s["p_rise"]) else "untested")
+                             for s in steps))
+    if falls:
+        worst = min(falls, key=lambda s: s["p_fall"])
+        status = against(a.tier)
+        why = (f"W_rms falls from {a.x_label} {name(worst)} by {-worst['d']:.3g} (Welch p = "
+               f"{worst['p_fall']:.2g} < {refuted:.2g}), not monotone")
+    elif len(rises) == m:
+        status, why = "passed", ""
+    else:
+        open_steps = [s for s in steps if s not in rises]
+        single = [name(s) for s in open_steps if min(s["n"]) < 2]
+        why = (f"{len(open_steps)} of {m} steps not shown to rise (" +
+               ", ".join(f"{name(s)}: {s['d']:+.3g}" + (f", p = {s['p_rise']:.2g}" if math.isfinite(s['p_rise'])
+                                                         else ", one realization")
+                         for s in open_steps) + ")")
+        if single:
+            why += "; a point of one realization has no scatter to test a step against"
+        status = "unresolved"
+    return _result(a, definition, check, status, d_min, "> 0 at every step, resolved", tolerance,
+                   why, detail)
+
+
 # ---- volume
 
 
@@ -1260,7 +1337,8 @@ def analyse(sweep: Sweep, kind: str, tier: str, case: str | None = None) -> Anal
         a.results.append(_gate_steady(a, _slope_check(a, slope, "P_max", slope.check, "increase"),
                                       all_points))
         a.results.append(_gate_steady(a, _curvature_check(a, curve, "P_max", curve.check), all_points))
-        w_defs = ((CHECKS["wrms_ratio_slope"], "increase"), (CHECKS["wrms_ratio_quadratic"], "curvature"))
+        w_defs = ((CHECKS["wrms_ratio_slope"], "increase"), (CHECKS["wrms_ratio_monotone"], "monotone"),
+                  (CHECKS["wrms_ratio_quadratic"], "curvature"))
     for w_def, direction in w_defs:
         if not sweep.windows:
             a.results.append(_skip(a.case, w_def, w_def.check.format(window="any"),
@@ -1269,6 +1347,8 @@ def analyse(sweep: Sweep, kind: str, tier: str, case: str | None = None) -> Anal
             check = w_def.check.format(window=window.label.replace("cycles ", ""))
             if direction == "curvature":
                 a.results.append(_curvature_check(a, w_def, window.column, check))
+            elif direction == "monotone":
+                a.results.append(_monotone_check(a, w_def, window.column, check))
             else:
                 a.results.append(_slope_check(a, w_def, window.column, check, direction))
     a.results.extend(_vorticity_decline_checks(a))

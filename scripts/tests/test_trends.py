@@ -203,7 +203,8 @@ def analyse(folder, kind, tier="paper"):
 def test_every_check_has_a_tolerance_and_a_reason_for_every_tier():
     assert set(trends.CHECKS) == {"pmax_steady", "pmax_theta_slope", "pmax_ratio_6_0",
                                   "pmax_ratio_slope", "pmax_ratio_quadratic", "wrms_theta_flat",
-                                  "wrms_ratio_slope", "wrms_ratio_quadratic", "wrms_ratio_bend_later", "wrms_early_larger",
+                                  "wrms_ratio_slope", "wrms_ratio_monotone", "wrms_ratio_quadratic", "wrms_ratio_bend_later",
+                                  "wrms_early_larger",
                                   "volume_end",
                                   "volume_saturation", *fields.CHECK_IDS}
     for definition in trends.CHECKS.values():
@@ -220,6 +221,7 @@ def test_a_pass_demands_the_same_confidence_at_every_tier():
     for check_id in ("pmax_theta_slope", "pmax_ratio_slope", "wrms_ratio_slope"):
         assert {c[check_id].params(t)["k"] for t in trends.TIERS} == {2.0}, check_id
     for check_id in ("pmax_steady", "pmax_ratio_6_0", "pmax_ratio_quadratic", "wrms_ratio_quadratic", "wrms_ratio_bend_later",
+                     "wrms_ratio_monotone",
                      "pmax_rise", "cooling_dilation_present",
                      "wrms_early_larger", "volume_end", "volume_saturation"):
         assert {c[check_id].params(t)["level"] for t in trends.TIERS} == {0.95}, check_id
@@ -581,6 +583,56 @@ def test_a_vorticity_linear_in_the_ratio_rises_but_is_not_quadratic(tmp_path):
     a = analyse(folder, "ratio", "standard")
     assert statuses(a, "wrms_ratio_slope") == ["passed", "passed"]
     assert statuses(a, "wrms_ratio_quadratic") == ["unresolved", "unresolved"]
+
+
+def vorticity_ratio_sweep(folder: Path, w_rms: dict) -> Path:
+    """A ratio sweep whose W_rms over cycles 0-10 per ratio are the given values."""
+    folder.mkdir(parents=True, exist_ok=True)
+    rows = []
+    for ratio, values in w_rms.items():
+        for i, value in enumerate(values):
+            rows.append({"run": len(rows), "thermal.alpha_c": ratio * ALPHA_P, "thermal.alpha_p": ALPHA_P,
+                         "seed": 100 + i, "P_max": 10.0 * ratio, "W_rms_0_10": value, "status": "completed"})
+    pd.DataFrame(rows).to_csv(folder / "summary.csv", index=False)
+    return folder
+
+
+def test_a_step_down_under_a_rising_line_is_not_monotone(tmp_path):
+    """Fig. 7b: 'increases monotonically'. A sweep that rises across the range, with a
+    resolved fall from 5 to 10 (0.16 to 0.10, 3 % scatter), passes the slope check and is
+    against the monotone one (p of the fall far below 0.05 / 8)."""
+    means = {1.0: 0.05, 5.0: 0.16, 10.0: 0.10, 15.0: 0.20, 20.0: 0.25}
+    folder = vorticity_ratio_sweep(tmp_path / "r", {x: list(spread(m, 0.03 * m, 5)) for x, m in means.items()})
+    a = analyse(folder, "ratio", "paper")
+    assert statuses(a, "wrms_ratio_slope") == ["passed"]
+    found = results_by_id(a)["wrms_ratio_monotone"][0]
+    assert found.status == "failed" and "falls from alpha_c/alpha_p 5 to 10" in found.reason
+    assert found.measured == pytest.approx(-0.06)
+    assert statuses(analyse(folder, "ratio", "standard"), "wrms_ratio_monotone") == ["contradicted"]
+    rising = vorticity_ratio_sweep(tmp_path / "up", {x: list(spread(0.01 * x + 0.02, 0.002, 5)) for x in means})
+    passed = results_by_id(analyse(rising, "ratio", "paper"))["wrms_ratio_monotone"][0]
+    assert passed.status == "passed", passed.reason
+    assert all(s["p_rise"] < 0.025 for s in passed.detail["steps"])
+
+
+def test_monotone_steps_within_the_scatter_or_of_one_realization_are_not_resolved(tmp_path):
+    # 1 to 5 rises by 0.002 under a scatter of 0.02: p of that step near 0.4.
+    flat_step = {1.0: list(spread(0.100, 0.02, 5)), 5.0: list(spread(0.102, 0.02, 5)),
+                 10.0: list(spread(0.300, 0.02, 5))}
+    found = results_by_id(analyse(vorticity_ratio_sweep(tmp_path / "f", flat_step), "ratio"))["wrms_ratio_monotone"][0]
+    assert found.status == "unresolved" and "1 of 2 steps not shown to rise (1 to 5" in found.reason
+    # A fall that one test alone would call resolved (p about 0.02) is not, among 4 steps.
+    # Welch: 0.025 / sqrt(0.01^2 / 3 + 0.01^2 / 5) = 3.4 SE at about 4 dof.
+    weak_fall = {1.0: [0.10, 0.11, 0.12], 2.5: [0.20, 0.21, 0.22], 5.0: list(spread(0.185, 0.01, 5)),
+                 7.5: [0.30, 0.31, 0.32], 10.0: [0.40, 0.41, 0.42]}
+    weak = results_by_id(analyse(vorticity_ratio_sweep(tmp_path / "w", weak_fall), "ratio"))["wrms_ratio_monotone"][0]
+    fall = weak.detail["steps"][1]
+    assert 0.025 / 4 < fall["p_fall"] < 0.025 and weak.status == "unresolved"
+    single = vorticity_ratio_sweep(tmp_path / "s", {1.0: [0.1], 5.0: [0.2], 10.0: [0.3]})
+    result = results_by_id(analyse(single, "ratio"))["wrms_ratio_monotone"][0]
+    assert result.status == "unresolved" and "one realization" in result.reason
+    two = vorticity_ratio_sweep(tmp_path / "t", {1.0: [0.1, 0.11], 10.0: [0.3, 0.31]})
+    assert statuses(analyse(two, "ratio"), "wrms_ratio_monotone") == ["skipped"]
 
 
 def test_vorticity_strongly_sloped_with_angle_is_contradicted(tmp_path):
