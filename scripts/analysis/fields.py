@@ -6,7 +6,8 @@ the (r, z) cells, both stages of a cycle binned where the grains were at the sta
 that cycle), its ``cycles.csv`` (peak pressure per cycle) and its V/V0 series
 (``timeseries.csv``, or the ``volume.csv`` a campaign stores). Per run this module
 returns numbers with uncertainties; ``checks(a)`` turns them into the CheckResults of the checks defined in trends.CHECKS (``stage_*``,
-``still_zone``, ``toroidal_cell``, ``pmax_rise``, ``steady_*``, ``cooling_dilation_*``).
+``still_zone``, ``toroidal_cell``, ``pmax_rise``, ``pmax_follows_density``, ``steady_*``,
+``cooling_dilation_*``).
 
 Uncertainties: per run, the standard error over its cycles (the bed's own noise); per
 sweep point, the standard error over the realizations when there are at least two,
@@ -31,6 +32,7 @@ from pathlib import Path
 
 import numpy as np
 import pandas as pd
+from scipy import stats
 
 from . import fits
 from .inputs import read_csv_columns, read_cycles, read_volume_series, run_dir
@@ -38,7 +40,7 @@ from .inputs import read_csv_columns, read_cycles, read_volume_series, run_dir
 #: The checks this module evaluates (their definitions: trends.CHECKS).
 CHECK_IDS = ("stage_heating_direction", "stage_cooling_direction", "still_zone", "toroidal_cell",
              "pmax_rise", "steady_time_theta", "steady_time_ratio", "steady_volume_flat", "cooling_dilation_ratio",
-             "cooling_dilation_present")
+             "cooling_dilation_present", "pmax_follows_density")
 STAGE_FILE = "stage_fields.csv"
 STAGE_COLUMNS = ("cycle", "ir", "iz", "r", "z", "count", "ur_heating", "uz_heating",
                  "ur_cooling", "uz_cooling")
@@ -321,6 +323,30 @@ def cycles_to_steady(cycles: pd.DataFrame) -> dict:
             "rise": float(rise)}
 
 
+def density_pressure(cycles: pd.DataFrame | None) -> dict:
+    """Spearman's rank correlation over a run's cycles (scipy.stats.spearmanr) between the
+    cycle's peak pressure and its packing density at the end of the cooling, -V/V0 there
+    (the grains back at T_0, so the bed volumes of different cycles compare like for like).
+    Returns {"rho", "cycles", "compaction"}: rho NaN with fewer than 3 cycles or a series
+    that does not change (no ranks to correlate); compaction is V/V0 at the end of the
+    first cooling minus that of the last."""
+    none = {"rho": math.nan, "cycles": 0, "compaction": math.nan}
+    columns = {"peak_pressure", "V_over_V0_end_cooling"}
+    if cycles is None or not columns.issubset(cycles.columns):
+        return none
+    frame = cycles[sorted(columns)].apply(pd.to_numeric, errors="coerce")
+    frame = frame[np.isfinite(frame).all(axis=1)]
+    n = len(frame)
+    if n < 2:
+        return {**none, "cycles": n}
+    peaks, volume = frame["peak_pressure"].to_numpy(float), frame["V_over_V0_end_cooling"].to_numpy(float)
+    compaction = float(volume[0] - volume[-1])
+    if n < 3 or np.ptp(peaks) == 0 or np.ptp(volume) == 0:
+        return {"rho": math.nan, "cycles": n, "compaction": compaction}
+    rho = float(stats.spearmanr(peaks, -volume).correlation)
+    return {"rho": rho, "cycles": n, "compaction": compaction}
+
+
 def thermal_stages(temperature: np.ndarray) -> tuple[np.ndarray, list[np.ndarray]]:
     """The stages of a sampled V/V0 series: (cycle of each row, the rows of each cooling
     ramp). A row heats when its T is above the row before's, cools when below it; a
@@ -394,6 +420,7 @@ def run_measures(folder: Path | None) -> dict:
         out["stage_cycles"] = len(fields.cycles)
     cycles = read_cycles(folder) if folder else None
     out["cycles_to_steady"] = cycles_to_steady(cycles)
+    out["density_pressure"] = density_pressure(cycles)
     series, out["volume_source"] = read_volume_series(folder)
     out["steady_volume"] = peak_density(series)
     out["cooling_dilation"] = cooling_dilation(series)
@@ -685,6 +712,54 @@ def _rise_checks(a, points, trends) -> list:
     return out
 
 
+def _density_checks(a, points, trends) -> list:
+    """pmax_follows_density per point: the rank correlation of a run's peak pressures with
+    its packing density over the cycles, over the realizations."""
+    d = trends.CHECKS["pmax_follows_density"]
+    p = d.params(a.tier)
+    level = p["level"]
+    out = []
+    for value, runs, measures in points:
+        check = d.check.format(point=a.point_label(value))
+        short = _too_few_cycles(a, d, check, measures, p["min_cycles"], "a correlation over the cycles", trends)
+        if short is not None:
+            out.append(short)
+            continue
+        found = [(r, m["density_pressure"]) for r, m in zip(runs, measures) if math.isfinite(m["density_pressure"]["rho"])]
+        unchanged = len(runs) - len(found)
+        left_out = f"; {unchanged} run(s) whose peaks or densities do not change left out" if unchanged else ""
+        if not found:
+            out.append(trends._skip(a.case, d, check, f"no run whose peaks and densities both change{left_out}",
+                                    a.tier))
+            continue
+        rhos = [x["rho"] for _, x in found]
+        compaction = [x["compaction"] for _, x in found]
+        iv = interval(mean_se(rhos, "realizations"), level)
+        if math.isfinite(iv["low"]):  # a correlation's bounds; clipping moves no bound across 0
+            iv["low"], iv["high"] = max(iv["low"], -1.0), min(iv["high"], 1.0)
+        per_run = ", ".join(f"{r}: {x['rho']:+.2f}" for r, x in found)
+        text = f"{_interval_text('rho', iv)}; rho per run {per_run}{left_out}"
+        squeeze = (f"V/V0 at the end of cooling falls by {min(compaction):.2g} to {max(compaction):.2g} from the "
+                   f"first cycle to the last")
+        side = _side(iv, 1.0)
+        if side == "shown":
+            status, why = "passed", ""
+        elif side == "opposite":
+            status = trends.against(a.tier)
+            why = (f"the peak pressure falls as the bed's density rises: rho = {iv['value']:+.2f} ({level:.0%} "
+                   f"interval [{iv['low']:.2f}, {iv['high']:.2f}] below 0; {squeeze}), over {len(found)} "
+                   f"realization(s) on the {a.tier} tier's beds")
+        elif not math.isfinite(iv["low"]):
+            status, why = "unresolved", f"one realization (rho = {rhos[0]:+.2f}) gives no scatter estimate"
+        else:
+            status, why = "unresolved", f"the {level:.0%} interval [{iv['low']:.2f}, {iv['high']:.2f}] holds 0"
+        out.append(trends._result(
+            a, d, check, status, iv["value"], "> 0, resolved", f"{level:.0%} interval above 0; {text}", why,
+            {"level": level, "rho": iv, "per_run": rhos, "compaction": compaction, "runs": [r for r, _ in found],
+             "unchanged": unchanged}))
+    return out
+
+
 def _dilation_present_checks(a, points, trends) -> list:
     """cooling_dilation_present per point of the angle study: the dilation during cooling
     above d_min, over the realizations (or one run's steady cycles)."""
@@ -837,6 +912,7 @@ def checks(a) -> list:
     out += _still_zone_checks(a, points, trends)
     out += _toroidal_checks(a, points, trends)
     out += _rise_checks(a, points, trends)
+    out += _density_checks(a, points, trends)
     if a.kind == "angle":
         out += _trend_check(a, points, trends, "steady_time_theta", "cycles_to_steady", "decrease")
         out += _dilation_present_checks(a, points, trends)

@@ -66,11 +66,13 @@ def write_stage_fields(folder: Path, cycles=6, heating=slump, circulation=0.2, n
 
 
 def write_cycles(folder: Path, cycles=10, steady_from=3, p=10.0, v_low=0.97, dilation=0.005, swing=0.04,
-                 seed=0, series="volume.csv", start=0.3):
+                 seed=0, series="volume.csv", start=0.3, compaction=None):
     """cycles.csv: peaks going from start x p to p by cycle steady_from (rising for start
     < 1, falling above) and flat after it (within 1 %);
     and the V/V0 series (volume_rows) as `series` (volume.csv or timeseries.csv; None:
-    none), whose ends of heating and cooling cycles.csv repeats."""
+    none), whose ends of heating and cooling cycles.csv repeats. compaction: V/V0 at the
+    ends of cooling falls instead by that much, linearly up to cycle steady_from and then
+    flat (within 1e-5), in cycles.csv only."""
     rng = np.random.default_rng(seed)
     folder.mkdir(parents=True, exist_ok=True)
     k = np.arange(cycles)
@@ -83,6 +85,11 @@ def write_cycles(folder: Path, cycles=10, steady_from=3, p=10.0, v_low=0.97, dil
                   "V_over_V0_end_heating": rows["V_over_V0"].to_numpy()[ends + STAGE_ROWS[0] - 1],
                   "V_over_V0_end_cooling": rows["V_over_V0"].to_numpy()[ends + sum(STAGE_ROWS[:3]) - 1]}).to_csv(
         folder / "cycles.csv", index=False)
+    if compaction is not None:
+        frame = pd.read_csv(folder / "cycles.csv")
+        frame["V_over_V0_end_cooling"] = (v_low - compaction * np.minimum(k, steady_from) / max(steady_from, 1)
+                                          + 1e-5 * rng.normal(size=cycles))
+        frame.to_csv(folder / "cycles.csv", index=False)
     if series is not None:
         rows.to_csv(folder / series, index=False)
 
@@ -421,6 +428,46 @@ def test_a_rise_within_the_scatter_or_of_one_bed_is_not_resolved(tmp_path):
     assert found.status == "unresolved" and "no scatter estimate" in found.reason
     short = build(tmp_path / "s", "angle", (0.0,), cycles=2)
     assert statuses(results(short, "angle"), "pmax_rise") == ["skipped"]
+
+
+def test_peaks_that_rise_as_the_bed_compacts_pass_and_peaks_that_fall_are_against(tmp_path):
+    # Fig. 3a / 3c: "the first regime is due to compaction [...] since pressure increases as
+    # the total packing density increases". Both change up to cycle 5 of 10, then hold.
+    def run(x, s):
+        return {"compaction": 0.03, "steady_from": 5, "start": 1.3 if x == 1.0 else 0.3}
+    folder = build(tmp_path / "r", "ratio", (1.0, 10.0), run=run)
+    found = {r.check: r for r in results(folder, "ratio")["pmax_follows_density"]}
+    rising = found["P_max rises with the packing density (alpha_c/alpha_p=10)"]
+    assert rising.status == "passed" and rising.measured > 0.3, rising.reason
+    falling = found["P_max rises with the packing density (alpha_c/alpha_p=1)"]
+    assert falling.measured < -0.3 and "the peak pressure falls as the bed's density rises" in falling.reason
+    assert falling.detail["compaction"] == pytest.approx([0.03] * 3, abs=1e-4)
+    assert_against(by_tier(build(tmp_path / "f", "ratio", (1.0,), run=run), "ratio"), "pmax_follows_density")
+    angle = results(build(tmp_path / "a", "angle", (0.0,), run=run), "angle")
+    assert statuses(angle, "pmax_follows_density") == ["passed"]   # a check of both studies
+
+
+def test_density_and_peaks_of_one_bed_unchanged_or_few_cycles_do_not_resolve(tmp_path):
+    one = build(tmp_path / "o", "angle", (0.0,), realizations=1, run=lambda x, s: {"compaction": 0.03})
+    found = results(one, "angle")["pmax_follows_density"][0]
+    assert found.status == "unresolved" and "no scatter estimate" in found.reason
+    # The first two beds' densities rise with their peaks, the third's fall: rho +1, +1, -1,
+    # whose 95 % interval (2 dof, k = 4.3) holds 0.
+    mixed = build(tmp_path / "m", "angle", (0.0,),
+                  run=lambda x, s: {"compaction": (0.03, 0.03, -0.03)[s], "steady_from": 9})
+    found = results(mixed, "angle")["pmax_follows_density"][0]
+    assert found.status == "unresolved" and "holds 0" in found.reason, found.reason
+    short = build(tmp_path / "s", "angle", (0.0,), cycles=5, run=lambda x, s: {"compaction": 0.03})
+    assert statuses(results(short, "angle"), "pmax_follows_density") == ["skipped"]
+    # volume_rows' V/V0 at the ends of cooling is the same in every cycle (up to its noise):
+    # no compaction here, but its noise still ranks; a series that is exactly flat is left out.
+    flat = build(tmp_path / "n", "angle", (0.0,), run=lambda x, s: {"compaction": 0.0})
+    for run_folder in (flat / "runs").iterdir():
+        frame = pd.read_csv(run_folder / "cycles.csv")
+        frame["V_over_V0_end_cooling"] = 0.97
+        frame.to_csv(run_folder / "cycles.csv", index=False)
+    found = results(flat, "angle")["pmax_follows_density"][0]
+    assert found.status == "skipped" and "3 run(s) whose peaks or densities do not change" in found.reason
 
 
 def test_a_rise_whose_length_depends_on_the_ratio_passes_either_way_and_none_is_against(tmp_path):

@@ -222,7 +222,7 @@ def test_a_pass_demands_the_same_confidence_at_every_tier():
         assert {c[check_id].params(t)["k"] for t in trends.TIERS} == {2.0}, check_id
     for check_id in ("pmax_steady", "pmax_ratio_6_0", "pmax_ratio_quadratic", "wrms_ratio_quadratic", "wrms_ratio_bend_later",
                      "wrms_ratio_monotone",
-                     "pmax_rise", "cooling_dilation_present",
+                     "pmax_rise", "pmax_follows_density", "cooling_dilation_present",
                      "wrms_early_larger", "volume_end", "volume_saturation"):
         assert {c[check_id].params(t)["level"] for t in trends.TIERS} == {0.95}, check_id
     band = {(c["pmax_ratio_6_0"].params(t)["target"], c["pmax_ratio_6_0"].params(t)["half_width"])
