@@ -34,6 +34,7 @@ Which data each check uses (docs/trends.md):
 from __future__ import annotations
 
 import math
+import warnings
 from dataclasses import dataclass, field
 from typing import Mapping
 
@@ -1064,8 +1065,12 @@ def _monotone_check(a: Analysis, definition: CheckDef, metric: str, check: str) 
         step = {"from": float(low), "to": float(high), "n": [int(len(below)), int(len(above))],
                 "d": float(above.mean() - below.mean()), "p_rise": math.nan, "p_fall": math.nan}
         if len(below) >= 2 and len(above) >= 2:
-            for key, side in (("p_rise", "greater"), ("p_fall", "less")):
-                step[key] = float(stats.ttest_ind(above, below, equal_var=False, alternative=side).pvalue)
+            with warnings.catch_warnings():
+                # Identical values on both sides (no scatter): scipy warns of precision loss
+                # and returns NaN, which reads "untested".
+                warnings.simplefilter("ignore", RuntimeWarning)
+                for key, side in (("p_rise", "greater"), ("p_fall", "less")):
+                    step[key] = float(stats.ttest_ind(above, below, equal_var=False, alternative=side).pvalue)
         steps.append(step)
     shown, refuted = alpha / 2.0, alpha / (2.0 * m)
     rises = [s for s in steps if s["p_rise"] < shown]
