@@ -1,8 +1,9 @@
-"""The two figures of "The paper, figure by figure" that scripts/trends does not draw
-from the campaign's stored results (analysis/paper_repro.py; the others are
-plots.py's): the peak pressure cycle by cycle, for Fig. 3a / 3c (the stored runs keep
-cycles.csv, not the time series that plots.pressure_vs_time needs), and the 6 deg
-halving with the band its check accepts.
+"""The figures of "The paper, figure by figure" that scripts/trends does not draw from
+the campaign's stored results (analysis/paper_repro.py; the others are plots.py's): the
+peak pressure cycle by cycle, for Fig. 3a / 3c (the stored runs keep cycles.csv, not the
+time series that plots.pressure_vs_time needs), the peak pressure against the packing
+density cycle by cycle (Fig. 3a / 3c's "pressure increases as the total packing density
+increases"), and the 6 deg halving with the band its check accepts.
 
 Each function takes an Analysis (trends.analyse), saves one PNG with its caption
 through common.figures.save_figure and returns (paths, notes), as plots.py's do.
@@ -85,6 +86,61 @@ def peaks_per_cycle(a, out_dir: Path):
                        f"cycles that P_max averages. Mirrors the paper's {paper}, which shows "
                        f"P(t) with each cycle's peak as a dot: the stored runs keep the peaks, "
                        f"not the time series. Sweep {a.sweep.name}, {a.tier} tier.")
+    return [path], notes
+
+
+def pressure_density(a, out_dir: Path):
+    """One panel per point: each realization's cycles as (V/V0 at the end of the cooling,
+    peak pressure), joined in cycle order with the first cycle ringed, and the point's
+    verdict of pmax_follows_density in the title. Panels have their own axes: the
+    pressure and the compaction differ by orders of magnitude between the points."""
+    points = sorted(a.data[a.x].dropna().unique())
+    verdicts = {r.check: r for r in a.results if r.check_id == "pmax_follows_density"}
+    columns = min(len(points), 3) or 1
+    rows = max(math.ceil(len(points) / columns), 1)
+    fig = Figure(figsize=(4.0 * columns, 3.4 * rows))
+    axes = np.atleast_1d(fig.subplots(rows, columns, squeeze=False)).ravel()
+    drawn, missing = 0, []
+    for ax, value in zip(axes, points):
+        runs = a.data.loc[np.isclose(a.data[a.x], value), "run"]
+        colors = colormaps["tab10"](np.arange(len(runs)) % 10)
+        for color, run in zip(colors, runs):
+            folder = run_dir(a.sweep.folder, int(run))
+            cycles = read_cycles(folder) if folder else None
+            if cycles is None or not {"peak_pressure", "V_over_V0_end_cooling"}.issubset(cycles.columns):
+                missing.append(f"run {int(run)}")
+                continue
+            v, p = cycles["V_over_V0_end_cooling"].to_numpy(float), cycles["peak_pressure"].to_numpy(float)
+            ax.plot(v, p, ".-", color=color, ms=4, lw=0.7, label=f"run {int(run)}")
+            ax.plot(v[:1], p[:1], "o", mfc="none", color=color, ms=8)
+            drawn += 1
+        result = verdicts.get(CHECKS["pmax_follows_density"].check.format(point=a.point_label(value)))
+        rho = f"rho {result.measured:+.2f}, {result.status}" if result and result.measured is not None else (
+            result.status if result else "not evaluated")
+        ax.set_title(f"{a.point_label(value)}: {rho}", fontsize=8)
+        ax.set_xlabel("V/V0 at the end of the cooling (denser to the right)", fontsize=7)
+        ax.set_ylabel("peak wall pressure of the cycle", fontsize=7)
+        ax.tick_params(labelsize=7)
+        ax.invert_xaxis()  # denser to the right: "pressure rises with density" reads upward
+        ax.xaxis.get_offset_text().set_fontsize(7)
+    for ax in axes[len(points):]:
+        ax.set_visible(False)
+    notes = [f"{a.case}: pressure-density figure: no cycles.csv with peak_pressure and "
+             f"V_over_V0_end_cooling for {', '.join(missing)}"] if missing else []
+    if not drawn:
+        return [], notes
+    axes[0].legend(fontsize=6, loc="best")
+    fig.tight_layout()
+    paper = PAPER_FIGURE[(a.kind, "pressure")]
+    path = save_figure(fig, out_dir, _name(a, "density"),
+                       f"Peak wall pressure of each cycle against V/V0 at the end of its cooling "
+                       f"(cycles.csv; the x axis runs from loose to dense), one line per "
+                       f"realization in cycle order, the first cycle ringed; one panel per "
+                       f"{a.x_label}, each with its own axes. The title gives check "
+                       f"pmax_follows_density's mean rank correlation and status. The paper "
+                       f"({paper}): 'the first regime is due to compaction of the granular "
+                       f"material, since pressure increases as the total packing density "
+                       f"increases'. Sweep {a.sweep.name}, {a.tier} tier.")
     return [path], notes
 
 

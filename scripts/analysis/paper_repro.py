@@ -84,7 +84,7 @@ STATEMENTS = (
               "theta_c and [...] the pressure peaks at the steady state decrease with increasing "
               "theta_c.",
               ("angle",), ("pmax_steady", "pmax_rise", "pmax_follows_density", "steady_time_theta"),
-              (("angle", "peaks"),)),
+              (("angle", "peaks"), ("angle", "density"))),
     Statement("fig3b", "Fig. 3b", "Mean peak pressure against the opening angle",
               "The dependence of the mean peak pressure P_max on theta_c [...] appears to be "
               "approximated well by a quadratic function, but does not deviate strongly from a "
@@ -100,7 +100,7 @@ STATEMENTS = (
               "It is evident that alpha_c/alpha_p introduces a time scale that determines the "
               "rate of peak pressure increase as a function of the number of cycles.",
               ("ratio",), ("pmax_steady", "pmax_rise", "pmax_follows_density", "steady_time_ratio"),
-              (("ratio", "peaks"),),
+              (("ratio", "peaks"), ("ratio", "density")),
               gap="which way the time scale moves: the paper names none, so steady_time_ratio "
                   "(the cycles to the steady state against the ratio) passes either sign"),
     Statement("fig3d", "Fig. 3d", "Mean peak pressure against the expansion ratio",
@@ -151,6 +151,7 @@ STATEMENTS = (
 #: paper_figures.py.
 FIGURES = {
     "peaks": paper_figures.peaks_per_cycle,
+    "density": paper_figures.pressure_density,
     "halving": paper_figures.halving,
     "P_max": plots.metric_vs_parameter,
     "volume": plots.volume_vs_time,

@@ -130,7 +130,9 @@ def test_every_statement_with_runs_has_its_figures(tmp_path, monkeypatch):
     paper_runs.store_halving(results)
     data = paper_repro.build(results=results, out=tmp_path / "out")
     names = {s["id"]: [Path(f).name for f in s["figures"]] for s in data["statements"]}
-    assert names["fig3a"] == ["paper_angle_peaks.png"]
+    assert names["fig3a"] == ["paper_angle_peaks.png", "paper_angle_density.png"]
+    caption = (tmp_path / "out" / "figures" / "paper_angle_density.txt").read_text()
+    assert "pmax_follows_density" in caption and "loose to dense" in caption
     assert names["fig3b"] == ["trends_angle_angle_P_max.png"]
     assert names["fig6"] == ["trends_angle_angle_displacement.png"]
     assert names["fig7a"] == ["trends_angle_angle_W_rms.png"]
