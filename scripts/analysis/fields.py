@@ -460,6 +460,21 @@ def _side(iv: dict, sign: float) -> str:
     return "within"
 
 
+def _positive_verdict(a, iv: dict, level: float, trends, single: str, digits: str,
+                      against_why: str) -> tuple[str, str]:
+    """(status, why) of a per-point number the paper says is positive: passed when its
+    interval lies above 0; against (trends.against) with against_why when below; else not
+    resolved: one realization (single: its value, no interval) or an interval holding 0."""
+    side = _side(iv, 1.0)
+    if side == "shown":
+        return "passed", ""
+    if side == "opposite":
+        return trends.against(a.tier), against_why
+    if not math.isfinite(iv["low"]):
+        return "unresolved", f"one realization ({single}) gives no scatter estimate"
+    return "unresolved", f"the {level:.0%} interval [{iv['low']:{digits}}, {iv['high']:{digits}}] holds 0"
+
+
 def _interval_text(name: str, iv: dict) -> str:
     if not math.isfinite(iv["low"]):
         return f"{name} {iv['value']:.3g} (no interval: n = {iv['n']} {iv['source']})"
@@ -663,28 +678,28 @@ def _toroidal_checks(a, points, trends) -> list:
     return out
 
 
-def _too_few_cycles(a, d, check: str, measures: list[dict], minimum: float, need: str, trends):
-    """The skip of a per-point check whose shortest run has fewer than `minimum` cycles, or None."""
-    fewest = min((m["cycles"] for m in measures), default=0)
-    if fewest >= minimum:
-        return None
-    return trends._skip(a.case, d, check, f"runs of {fewest} cycle(s): {need} needs >= {minimum:g}", a.tier)
+def _long_enough(a, d, points, need: str, trends, out: list):
+    """(value, runs, measures, check) of each point whose shortest run has the check's
+    min_cycles; a shorter point's skip goes into out, in the points' order."""
+    minimum = d.params(a.tier)["min_cycles"]
+    for value, runs, measures in points:
+        check = d.check.format(point=a.point_label(value))
+        fewest = min((m["cycles"] for m in measures), default=0)
+        if fewest < minimum:
+            out.append(trends._skip(a.case, d, check, f"runs of {fewest} cycle(s): {need} needs >= {minimum:g}",
+                                    a.tier))
+            continue
+        yield value, runs, measures, check
 
 
 def _rise_checks(a, points, trends) -> list:
     """pmax_rise per point: the relative rise from the first cycle's peak to the steady
     peaks, over the realizations (paired per run: the same bed's peaks)."""
     d = trends.CHECKS["pmax_rise"]
-    p = d.params(a.tier)
-    level = p["level"]
+    level = d.params(a.tier)["level"]
     out = []
-    for value, runs, measures in points:
-        check = d.check.format(point=a.point_label(value))
-        short = _too_few_cycles(a, d, check, measures, p["min_cycles"], "a first cycle and later ones to rise to",
-                                trends)
-        if short is not None:
-            out.append(short)
-            continue
+    need = "a first cycle and later ones to rise to"
+    for value, runs, measures, check in _long_enough(a, d, points, need, trends, out):
         rises = [m["cycles_to_steady"]["rise"] for m in measures]
         if not all(math.isfinite(r) for r in rises):
             out.append(trends._skip(a.case, d, check, "a run without a positive steady peak pressure "
@@ -693,18 +708,11 @@ def _rise_checks(a, points, trends) -> list:
         iv = interval(mean_se(rises, "realizations"), level)
         text = _interval_text("r", iv)
         per_run = ", ".join(f"{r}: {x:+.3g}" for r, x in zip(runs, rises))
-        side = _side(iv, 1.0)
-        if side == "shown":
-            status, why = "passed", ""
-        elif side == "opposite":
-            status = trends.against(a.tier)
-            why = (f"the peaks fall into their steady state: the steady peak is {-iv['value']:.0%} below "
-                   f"the first cycle's ({level:.0%} interval [{iv['low']:.3g}, {iv['high']:.3g}] below 0), "
-                   f"over {len(rises)} realization(s) on the {a.tier} tier's beds")
-        elif not math.isfinite(iv["low"]):
-            status, why = "unresolved", f"one realization (r = {rises[0]:+.3g}) gives no scatter estimate"
-        else:
-            status, why = "unresolved", f"the {level:.0%} interval [{iv['low']:.3g}, {iv['high']:.3g}] holds 0"
+        status, why = _positive_verdict(
+            a, iv, level, trends, f"r = {rises[0]:+.3g}", ".3g",
+            f"the peaks fall into their steady state: the steady peak is {-iv['value']:.0%} below "
+            f"the first cycle's ({level:.0%} interval [{iv['low']:.3g}, {iv['high']:.3g}] below 0), "
+            f"over {len(rises)} realization(s) on the {a.tier} tier's beds")
         out.append(trends._result(
             a, d, check, status, iv["value"], "> 0, resolved",
             f"{level:.0%} interval above 0; {text}; r per run {per_run}", why,
@@ -716,15 +724,9 @@ def _density_checks(a, points, trends) -> list:
     """pmax_follows_density per point: the rank correlation of a run's peak pressures with
     its packing density over the cycles, over the realizations."""
     d = trends.CHECKS["pmax_follows_density"]
-    p = d.params(a.tier)
-    level = p["level"]
+    level = d.params(a.tier)["level"]
     out = []
-    for value, runs, measures in points:
-        check = d.check.format(point=a.point_label(value))
-        short = _too_few_cycles(a, d, check, measures, p["min_cycles"], "a correlation over the cycles", trends)
-        if short is not None:
-            out.append(short)
-            continue
+    for value, runs, measures, check in _long_enough(a, d, points, "a correlation over the cycles", trends, out):
         found = [(r, m["density_pressure"]) for r, m in zip(runs, measures) if math.isfinite(m["density_pressure"]["rho"])]
         unchanged = len(runs) - len(found)
         left_out = f"; {unchanged} run(s) whose peaks or densities do not change left out" if unchanged else ""
@@ -741,18 +743,11 @@ def _density_checks(a, points, trends) -> list:
         text = f"{_interval_text('rho', iv)}; rho per run {per_run}{left_out}"
         squeeze = (f"V/V0 at the end of cooling falls by {min(compaction):.2g} to {max(compaction):.2g} from the "
                    f"first cycle to the last")
-        side = _side(iv, 1.0)
-        if side == "shown":
-            status, why = "passed", ""
-        elif side == "opposite":
-            status = trends.against(a.tier)
-            why = (f"the peak pressure falls as the bed's density rises: rho = {iv['value']:+.2f} ({level:.0%} "
-                   f"interval [{iv['low']:.2f}, {iv['high']:.2f}] below 0; {squeeze}), over {len(found)} "
-                   f"realization(s) on the {a.tier} tier's beds")
-        elif not math.isfinite(iv["low"]):
-            status, why = "unresolved", f"one realization (rho = {rhos[0]:+.2f}) gives no scatter estimate"
-        else:
-            status, why = "unresolved", f"the {level:.0%} interval [{iv['low']:.2f}, {iv['high']:.2f}] holds 0"
+        status, why = _positive_verdict(
+            a, iv, level, trends, f"rho = {rhos[0]:+.2f}", ".2f",
+            f"the peak pressure falls as the bed's density rises: rho = {iv['value']:+.2f} ({level:.0%} "
+            f"interval [{iv['low']:.2f}, {iv['high']:.2f}] below 0; {squeeze}), over {len(found)} "
+            f"realization(s) on the {a.tier} tier's beds")
         out.append(trends._result(
             a, d, check, status, iv["value"], "> 0, resolved", f"{level:.0%} interval above 0; {text}", why,
             {"level": level, "rho": iv, "per_run": rhos, "compaction": compaction, "runs": [r for r, _ in found],
@@ -767,12 +762,7 @@ def _dilation_present_checks(a, points, trends) -> list:
     p = d.params(a.tier)
     level, d_min = p["level"], p["d_min"]
     out = []
-    for value, runs, measures in points:
-        check = d.check.format(point=a.point_label(value))
-        short = _too_few_cycles(a, d, check, measures, p["min_cycles"], "the steady state", trends)
-        if short is not None:
-            out.append(short)
-            continue
+    for value, runs, measures, check in _long_enough(a, d, points, "the steady state", trends, out):
         with_series = [(r, m["cooling_dilation"]) for r, m in zip(runs, measures)
                        if math.isfinite(m["cooling_dilation"].value)]
         unseries = len(runs) - len(with_series)
