@@ -132,7 +132,12 @@ def flat_verdict(slope: float, se: float, k: float, span: float, scale: float,
 #: with few of them "k SE" over-claims (one dof needs 14 SE for k = 2's level).
 _WIDENED = ("; k is the tier's, widened to the Student t quantile at the fit's dof "
             "(n - 2) for the two-sided level k has in the normal limit (fits.widened_k)")
-_K_MONOTONE = {"quick": {"k": 2.0}, "standard": {"k": 2.0}, "paper": {"k": 2.0}}
+def _same_at_every_tier(**tolerance) -> dict[str, dict]:
+    """A tolerance that does not depend on the tier (each tier gets its own copy)."""
+    return {tier: dict(tolerance) for tier in TIERS}
+
+
+_K_MONOTONE = _same_at_every_tier(k=2.0)
 _K_MONOTONE_REASONS = {
     "quick": "k = 2 as at every tier: a pass claims the sign at about 97.5 % one-sided "
              "confidence whatever the bed; a CI-scale bed's wider scatter reads not resolved",
@@ -141,13 +146,11 @@ _K_MONOTONE_REASONS = {
     "paper": "k = 2: the slope differs from zero at about 97.5 % one-sided confidence "
              "for a normal estimate (5 realizations per point)",
 }
-_LEVEL = {"quick": {"level": 0.95}, "standard": {"level": 0.95}, "paper": {"level": 0.95}}
+_LEVEL = _same_at_every_tier(level=0.95)
 #: Per-run first-against-later checks: a first cycle and at least two after it.
-_LEVEL_3_CYCLES = {"quick": {"level": 0.95, "min_cycles": 3}, "standard": {"level": 0.95, "min_cycles": 3},
-                   "paper": {"level": 0.95, "min_cycles": 3}}
+_LEVEL_3_CYCLES = _same_at_every_tier(level=0.95, min_cycles=3)
 #: Per-run measures over the cycles that need more than a first regime to go by.
-_LEVEL_6_CYCLES = {"quick": {"level": 0.95, "min_cycles": 6}, "standard": {"level": 0.95, "min_cycles": 6},
-                   "paper": {"level": 0.95, "min_cycles": 6}}
+_LEVEL_6_CYCLES = _same_at_every_tier(level=0.95, min_cycles=6)
 _CURVATURE_REASONS = {
     "quick": "level 0.95 as at every tier: single beds per point leave a wide scatter, "
              "which reads 'a line fits as well' rather than a looser pass",
@@ -170,8 +173,7 @@ CHECKS: dict[str, CheckDef] = {c.id: c for c in (
              "included; not steady: |slope| > k SE (a resolved trend) and the drift not shown "
              "within that margin, which makes every P_max check using the point not resolved "
              "('not steady')",
-        tolerance={"quick": {"level": 0.95, "drift": 0.25}, "standard": {"level": 0.95, "drift": 0.25},
-                   "paper": {"level": 0.95, "drift": 0.25}},
+        tolerance=_same_at_every_tier(level=0.95, drift=0.25),
         reason="paper: the peak pressure rises over the first cycles, then 'a steady state is "
                "reached where the pressure fluctuates around a relatively constant value'; "
                "P_max is the mean peak of that steady state (Fig. 3a, 3c)",
@@ -201,9 +203,7 @@ CHECKS: dict[str, CheckDef] = {c.id: c for c in (
              "interval inside target +- half_width; contradiction: the interval entirely "
              "outside it; else not resolved (one realization at an angle: not resolved); "
              "needs runs at 0 and 6 deg",
-        tolerance={"quick": {"target": 0.5, "half_width": 0.15, "level": 0.95},
-                   "standard": {"target": 0.5, "half_width": 0.15, "level": 0.95},
-                   "paper": {"target": 0.5, "half_width": 0.15, "level": 0.95}},
+        tolerance=_same_at_every_tier(target=0.5, half_width=0.15, level=0.95),
         reason="paper: 'a conical container with an opening angle of only 6 deg halves the "
                "peak pressure compared to a cylindrical container'",
         tier_reasons={
@@ -386,8 +386,7 @@ _FIELD_LEVEL_REASONS = {
     "paper": "level 0.95: over 5 realizations (4 dof, k = 2.78); the paper gives the sense of "
              "the motion, no number",
 }
-_K_STEADY = {"quick": {"k": 2.0, "min_cycles": 6}, "standard": {"k": 2.0, "min_cycles": 6},
-             "paper": {"k": 2.0, "min_cycles": 6}}
+_K_STEADY = _same_at_every_tier(k=2.0, min_cycles=6)
 _K_STEADY_REASONS = {
     "quick": "skipped: 3 cycles have no steady half to measure against (k = 2 as at every tier)",
     "standard": "k = 2 as at every tier (about 97.5 % one-sided confidence); 6 cycles resolve "
@@ -432,8 +431,7 @@ CHECKS.update({c.id: c for c in (
              "forced floor-axis cell (a cell coarser than the zone mixes moving grains in: not "
              "resolved); else not resolved; only at the paper's point of Fig. 5 (theta_c = 0 deg, "
              "alpha_c/alpha_p = 10), as stage_heating_direction",
-        tolerance={"quick": {"f_max": 0.3, "level": 0.95}, "standard": {"f_max": 0.3, "level": 0.95},
-                   "paper": {"f_max": 0.3, "level": 0.95}},
+        tolerance=_same_at_every_tier(f_max=0.3, level=0.95),
         reason="paper: a still conical zone at the bottom, grains that hardly move (Fig. 5)",
         tier_reasons={
             "quick": "the paper's reading at every tier: cells of 2 grain sizes put the zone's edge "
@@ -453,9 +451,7 @@ CHECKS.update({c.id: c for c in (
              "interval of mean |s| below s_fail (no dominant cell); else not resolved (realizations "
              "turning opposite ways widen the interval of a); one realization: pass when a >= s_min "
              "and its per-cycle circulation's interval (cycles - 1 dof) excludes 0, else not resolved",
-        tolerance={"quick": {"s_min": 0.5, "s_fail": 0.2, "level": 0.95},
-                   "standard": {"s_min": 0.5, "s_fail": 0.2, "level": 0.95},
-                   "paper": {"s_min": 0.5, "s_fail": 0.2, "level": 0.95}},
+        tolerance=_same_at_every_tier(s_min=0.5, s_fail=0.2, level=0.95),
         reason="paper: toroidal convection cells in every case (Fig. 6): the accumulated "
                "displacement turns one way around a ring in the (r, z) plane",
         tier_reasons={
@@ -563,9 +559,7 @@ CHECKS.update({c.id: c for c in (
              "Fig. 4 would show); opposite resolved: the interval below d_min (no visible "
              "dilation); else not resolved; runs without a V/V0 series left out, said; skipped "
              "below min_cycles",
-        tolerance={"quick": {"level": 0.95, "d_min": 1e-3, "min_cycles": 6},
-                   "standard": {"level": 0.95, "d_min": 1e-3, "min_cycles": 6},
-                   "paper": {"level": 0.95, "d_min": 1e-3, "min_cycles": 6}},
+        tolerance=_same_at_every_tier(level=0.95, d_min=1e-3, min_cycles=6),
         reason="paper: 'small increases [of V/V0] during the cooling at the steady state ... "
                "caused by dilatation ... dilatation is present for all angles theta_c' (Fig. 4a)",
         tier_reasons={
@@ -1076,7 +1070,10 @@ def _monotone_check(a: Analysis, definition: CheckDef, metric: str, check: str) 
     rises = [s for s in steps if s["p_rise"] < shown]
     falls = [s for s in steps if s["p_fall"] < refuted]
     d_min = min(s["d"] for s in steps)
-    name = lambda s: f"{s['from']:g} to {s['to']:g}"  # noqa: E731
+
+    def name(s):
+        return f"{s['from']:g} to {s['to']:g}"
+
     detail = {"level": level, "steps": steps, "p_rise_max": shown, "p_fall_max": refuted}
     tolerance = (f"Welch t per step: every rise one-sided p < {shown:.3g}; a fall at p < {refuted:.3g} "
                  f"(Bonferroni over {m} steps) is against; step p (rise) "
