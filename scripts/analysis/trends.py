@@ -132,6 +132,8 @@ def flat_verdict(slope: float, se: float, k: float, span: float, scale: float,
 #: with few of them "k SE" over-claims (one dof needs 14 SE for k = 2's level).
 _WIDENED = ("; k is the tier's, widened to the Student t quantile at the fit's dof "
             "(n - 2) for the two-sided level k has in the normal limit (fits.widened_k)")
+
+
 def _same_at_every_tier(**tolerance) -> dict[str, dict]:
     """A tolerance that does not depend on the tier (each tier gets its own copy)."""
     return {tier: dict(tolerance) for tier in TIERS}
