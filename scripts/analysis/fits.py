@@ -294,18 +294,10 @@ def mean_interval(values: Sequence[float], level: float) -> dict:
             "low": mean - k * sem, "high": mean + k * sem}
 
 
-def curvature_test(x, y) -> dict:
-    """Is a quadratic resolved against a straight line? Unweighted fits of both over all
-    points (each realization one point); the F test of the nested models,
-    F = (SS_lin - SS_quad) / (SS_quad / (n - 3)) with (1, n - 3) degrees of freedom,
-    p = scipy.stats.f.sf(F, 1, n - 3) (F = (c2 / SE(c2))^2: the same as the two-sided
-    t test of the x^2 coefficient). Raises FitError without 3 distinct x and n >= 4.
-
-    Returns c2, its SE, t = c2 / SE, F, p, dof and both fits."""
-    quad = quadratic_fit(x, y)
-    line = linear_fit(x, y)
-    if quad.dof < 1:
-        raise FitError(f"{quad.n} points: the curvature needs n >= 4 for a scatter estimate")
+def _pooled_curvature(quad: FitResult, line: FitResult) -> dict:
+    """The x^2 term against the fits' pooled residual scatter (every run the same):
+    F = (SS_lin - SS_quad) / (SS_quad / (n - 3)), p = scipy.stats.f.sf(F, 1, n - 3);
+    F = (c2 / SE(c2))^2, the two-sided t test of c2."""
     c2, se = float(quad.coef[2]), float(quad.se[2])
     if quad.ss_res > 0:
         f_value = (line.ss_res - quad.ss_res) / (quad.ss_res / quad.dof)
@@ -317,4 +309,77 @@ def curvature_test(x, y) -> dict:
         t = c2 / se
     else:
         t = math.copysign(math.inf, c2) if c2 else math.nan
-    return {"c2": c2, "se": se, "t": t, "F": float(f_value), "p": p, "dof": quad.dof, "quadratic": quad, "linear": line}
+    return {"se": se, "t": t, "F": float(f_value), "p": p, "dof": float(quad.dof)}
+
+
+def _per_point_curvature(x: np.ndarray, y: np.ndarray, c2: float) -> dict | None:
+    """The x^2 term of the unweighted fit against each point's own scatter.
+
+    c2 = sum_j a_j y_j (a: the x^2 row of the fit's pseudo-inverse), so
+    Var(c2) = sum_g s_g^2 A_g with A_g = sum of a_j^2 over the runs of point g and s_g^2
+    the sample variance of its realizations (pure error: no lack of fit enters). A point
+    with one realization takes the largest s_g^2 of the replicated points (conservative
+    where the scatter grows along the sweep). Terms sharing one estimate are summed before
+    the Welch-Satterthwaite degrees of freedom, nu = Var^2 / sum_src (s^2 B)^2 / (n_src - 1)
+    (Satterthwaite 1946, Biometrics Bull. 2, 110), as Welch's t test combines two groups.
+    None when no point has two realizations (then only the pooled scatter exists)."""
+    a = np.linalg.pinv(_poly.polyvander(x, 2))[2]
+    values, group = np.unique(x, return_inverse=True)
+    n = np.bincount(group, minlength=values.size)
+    big_a = np.bincount(group, weights=a ** 2, minlength=values.size)
+    replicated = [g for g in range(values.size) if n[g] >= 2]
+    if not replicated:
+        return None
+    var = {g: float(np.var(y[group == g], ddof=1)) for g in replicated}
+    noisiest = max(replicated, key=lambda g: var[g])
+    share = {g: float(big_a[g]) for g in replicated}
+    for g in range(values.size):
+        if n[g] < 2:
+            share[noisiest] += float(big_a[g])
+    terms = {g: var[g] * share[g] for g in replicated}
+    total = sum(terms.values())
+    se = math.sqrt(total)
+    borrowed = [float(values[g]) for g in range(values.size) if n[g] < 2]
+    record = {"se": se, "borrowed": borrowed, "borrowed_from": float(values[noisiest]) if borrowed else None,
+              "point_sd": {float(values[g]): math.sqrt(var[g]) for g in replicated}}
+    if total > 0:
+        dof = total ** 2 / sum(term ** 2 / (n[g] - 1) for g, term in terms.items() if term > 0)
+        t = c2 / se
+        p = float(2.0 * stats.t.sf(abs(t), dof))
+    else:  # every point's realizations identical: any curvature is resolved, none is not
+        dof = float(sum(n[g] - 1 for g in replicated))
+        t = math.copysign(math.inf, c2) if c2 else math.nan
+        p = 0.0 if c2 else 1.0
+    return {**record, "t": t, "F": t * t, "p": p, "dof": float(dof)}
+
+
+def curvature_test(x, y) -> dict:
+    """Is a quadratic resolved against a straight line? The unweighted quadratic fit over
+    all points (each realization one point); its x^2 term c2 is t-tested twice: against
+    each point's own scatter with Welch-Satterthwaite degrees of freedom
+    (_per_point_curvature: the scatter of these sweeps grows along them, 0.15 to 11 in
+    P_max over the paper's ratio sweep, and a pooled scatter then claims too much), and
+    against the fits' pooled residual, which holds any lack of fit (_pooled_curvature: a
+    zigzag of exact points has a precise c2 that no quadratic follows). The curvature is
+    resolved only where both resolve it, so the larger p is the test's (an
+    intersection-union test, level at most that of each). Without a replicated point the
+    pooled test is the only one. Raises FitError without 3 distinct x and n >= 4.
+
+    Returns c2, its SE, t = c2 / SE, F = t^2, p (two-sided) and dof of the test with the
+    larger p, "scatter" ("per point" or "pooled": which one that is), both tests under
+    "per_point" (None without a replicated point) and "pooled", and both fits."""
+    x, y, _ = _clean(x, y, None)
+    quad = quadratic_fit(x, y)
+    line = linear_fit(x, y)
+    if quad.dof < 1:
+        raise FitError(f"{quad.n} points: the curvature needs n >= 4 for a scatter estimate")
+    c2 = float(quad.coef[2])
+    pooled = _pooled_curvature(quad, line)
+    per_point = _per_point_curvature(x, y, c2)
+    if per_point is not None and not per_point["p"] < pooled["p"]:
+        chosen, scatter = per_point, "per point"
+    else:
+        chosen, scatter = pooled, "pooled"
+    return {"c2": c2, **{key: chosen[key] for key in ("se", "t", "F", "p", "dof")}, "scatter": scatter,
+            "pooled": pooled, "per_point": per_point,
+            "quadratic": quad, "linear": line}

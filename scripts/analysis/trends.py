@@ -156,8 +156,9 @@ _LEVEL_6_CYCLES = _same_at_every_tier(level=0.95, min_cycles=6)
 _CURVATURE_REASONS = {
     "quick": "level 0.95 as at every tier: single beds per point leave a wide scatter, "
              "which reads 'a line fits as well' rather than a looser pass",
-    "standard": "level 0.95: the F test has 1 and n - 3 degrees of freedom, so few runs "
-                "widen the threshold on their own (with 5 runs, |c2| > 4.3 SE)",
+    "standard": "level 0.95: few runs give the t test few degrees of freedom, which widens "
+                "the threshold on its own (pooled, n - 3: with 5 runs |c2| > 4.3 SE; a point's own "
+                "scatter, n - 1 per point)",
     "paper": "level 0.95: the paper gives no number for 'fitted well'; a curvature "
              "resolved at 95 % is the least that tells a quadratic from a line",
 }
@@ -229,9 +230,14 @@ CHECKS: dict[str, CheckDef] = {c.id: c for c in (
     CheckDef(
         id="pmax_ratio_quadratic", sweep="ratio", check="P_max curvature vs alpha_c/alpha_p",
         figure="Fig. 3d",
-        rule="quadratic and linear fits of P_max over all completed realizations; F test of "
-             "the quadratic against the line (scipy.stats.f, 1 and n - 3 dof; the same as "
-             "|c2| / SE(c2) beyond the Student t quantile): pass c2 > 0 with p < 1 - level; "
+        rule="quadratic and linear fits of P_max over all completed realizations (unweighted); "
+             "two-sided t test of the x^2 term c2 against each point's own scatter: Var(c2) = "
+             "sum over points of the sample variance of its realizations times the sum of its "
+             "runs' squared fit weights, a point of one realization taking the noisiest "
+             "replicated point's variance, Welch-Satterthwaite dof), and against the pooled "
+             "residual (the F test of the nested fits, 1 and n - 3 dof, which holds any lack of "
+             "fit); p the larger of the two (fits.curvature_test; the pooled one alone without "
+             "a replicated point): pass c2 > 0 with p < 1 - level; "
              "opposite resolved: c2 < 0 with p < 1 - level (bends down); else not resolved "
              "('a line fits as well'); R^2 of the quadratic and the line through the means "
              "reported, not a rule; needs >= 4 ratios and >= 4 runs",
@@ -271,8 +277,8 @@ CHECKS: dict[str, CheckDef] = {c.id: c for c in (
     CheckDef(
         id="wrms_ratio_quadratic", sweep="ratio", check="W_rms[{window}] curvature vs alpha_c/alpha_p",
         figure="Fig. 7b",
-        rule="as pmax_ratio_quadratic, per vorticity window: pass c2 > 0 with the F test of "
-             "the quadratic against the line p < 1 - level; c2 < 0 with p < 1 - level: "
+        rule="as pmax_ratio_quadratic, per vorticity window: pass c2 > 0 with the t test of "
+             "c2 (each point's own scatter) p < 1 - level; c2 < 0 with p < 1 - level: "
              "opposite resolved; else not resolved ('a line fits as well'); needs >= 4 ratios "
              "and >= 4 runs",
         tolerance=_LEVEL,
@@ -310,7 +316,7 @@ CHECKS: dict[str, CheckDef] = {c.id: c for c in (
              "each window scaled by its mean over the runs (the later window's vorticity is "
              "smaller: the shape is compared, not the size); quadratic fit of d against the "
              "ratio, paired per run: its c2 is the later window's relative curvature minus the "
-             "earlier's; t test of c2 (as the F test of pmax_ratio_quadratic, n - 3 dof): pass "
+             "earlier's; t test of c2 (as pmax_ratio_quadratic, each point's own scatter): pass "
              "c2 > 0 with p < 1 - level and the later window bending up (its own c2 > 0, as the "
              "paper's quadratic); opposite resolved: c2 < 0 with p < 1 - level; else not "
              "resolved; needs >= 4 ratios and >= 4 runs",
@@ -1001,8 +1007,31 @@ def _halving_check(a: Analysis) -> CheckResult:
 # ---- curvature
 
 
+def _scatter_said(test: dict) -> str:
+    """Which scatter a curvature's SE came from, in a few words (fits.curvature_test)."""
+    if test["scatter"] == "pooled":
+        return f"pooled residual scatter, {test['dof']:.3g} dof"
+    borrowed = test["per_point"]["borrowed"]
+    said = f"each point's own scatter, {test['dof']:.3g} dof (Welch-Satterthwaite)"
+    if borrowed:
+        said += (f"; {', '.join(f'{v:g}' for v in borrowed)} of one realization take "
+                 f"{test['per_point']['borrowed_from']:g}'s")
+    pooled = test["pooled"]
+    return said + f"; pooled scatter would give {pooled['t']:.2g} SE, p = {pooled['p']:.3g}"
+
+
+def _curvature_detail(test: dict) -> dict:
+    """The curvature test's numbers for a check's detail."""
+    detail = {key: test[key] for key in ("c2", "se", "t", "F", "p", "dof", "scatter")}
+    detail["pooled"] = dict(test["pooled"])
+    if test["per_point"] is not None:
+        detail["borrowed"] = test["per_point"]["borrowed"]
+        detail["point_sd"] = {f"{x:g}": sd for x, sd in test["per_point"]["point_sd"].items()}
+    return detail
+
+
 def _curvature_check(a: Analysis, definition: CheckDef, metric: str, check: str) -> CheckResult:
-    """Pass only a resolved upward curvature (F test of the quadratic against the line)."""
+    """Pass only a resolved upward curvature (t test of the x^2 term, fits.curvature_test)."""
     level = definition.params(a.tier)["level"]
     alpha = 1.0 - level
     if metric not in a.data.columns:
@@ -1015,27 +1044,26 @@ def _curvature_check(a: Analysis, definition: CheckDef, metric: str, check: str)
                      "the curvature needs >= 4 values (a quadratic through 3 means says nothing "
                      "of its shape) and >= 4 runs", a.tier)
     test = fits.curvature_test(values[a.x], values[metric])
-    c2, se, t, p_value, dof = test["c2"], test["se"], test["t"], test["p"], test["dof"]
+    c2, se, t, p_value = test["c2"], test["se"], test["t"], test["p"]
     means = a.metrics.get(metric, {}).get("means", {})
     r2 = {name: (means[name].r2 if means.get(name) is not None else math.nan)
           for name in ("linear", "quadratic")}
-    detail = {"c2": c2, "se": se, "t": t, "F": test["F"], "p": p_value, "dof": dof,
-              "level": level, "points": points, "n": int(len(values)),
+    detail = {**_curvature_detail(test), "level": level, "points": points, "n": int(len(values)),
               "r2_means_quadratic": r2["quadratic"], "r2_means_linear": r2["linear"],
               "coefficients": [float(c) for c in test["quadratic"].coef]}
-    tolerance = (f"F test against a line p < {alpha:.2g} (p = {p_value:.3g}; c2 {c2:.4g} +- "
-                 f"{se:.2g}, {t:.2g} SE, {dof} dof; R^2 of the means: quadratic "
+    tolerance = (f"t test of c2 against a line p < {alpha:.2g} (p = {p_value:.3g}; c2 {c2:.4g} +- "
+                 f"{se:.2g}, {t:.2g} SE; {_scatter_said(test)}; R^2 of the means: quadratic "
                  f"{r2['quadratic']:.3f}, line {r2['linear']:.3f})")
     if p_value < alpha and c2 > 0:
         status, why = "passed", ""
     elif p_value < alpha and c2 < 0:
         status = against(a.tier)
-        why = (f"the curve bends down: c2 = {c2:.3g} +- {se:.2g} ({t:.2g} SE, F test p = "
+        why = (f"the curve bends down: c2 = {c2:.3g} +- {se:.2g} ({t:.2g} SE, p = "
                f"{p_value:.3g}), the opposite of the paper's rising quadratic")
     else:
         status = "unresolved"
-        why = (f"a line fits as well: c2 = {c2:.3g} +- {se:.2g} ({t:.2g} SE), F test of the "
-               f"quadratic against the line p = {p_value:.3g} >= {alpha:.2g}")
+        why = (f"a line fits as well: c2 = {c2:.3g} +- {se:.2g} ({t:.2g} SE), t test of the "
+               f"quadratic term p = {p_value:.3g} >= {alpha:.2g}")
     return _result(a, definition, check, status, c2, "> 0, resolved against a line", tolerance,
                    why, detail)
 
@@ -1311,14 +1339,14 @@ def _vorticity_bend_check(a: Analysis) -> CheckResult:
     test = fits.curvature_test(values[a.x], late - early)
     late_c2 = float(fits.quadratic_fit(values[a.x], late).coef[2])
     early_c2 = float(fits.quadratic_fit(values[a.x], early).coef[2])
-    c2, se, t, p_value, dof = test["c2"], test["se"], test["t"], test["p"], test["dof"]
-    detail = {"c2": c2, "se": se, "t": t, "p": p_value, "dof": dof, "level": level, "points": points,
+    c2, se, t, p_value = test["c2"], test["se"], test["t"], test["p"]
+    detail = {**_curvature_detail(test), "level": level, "points": points,
               "n": int(len(values)), "first": first.label, "last": last.label,
               "c2_first": early_c2, "c2_last": late_c2, "mean_first": early_mean, "mean_last": late_mean}
     shapes = (f"relative curvature {early_c2:.3g} ({first.label}) and {late_c2:.3g} ({last.label}) per "
               "unit ratio squared")
     tolerance = (f"t test of the difference's c2 p < {alpha:.2g} (p = {p_value:.3g}; c2 {c2:.4g} +- "
-                 f"{se:.2g}, {t:.2g} SE, {dof} dof); {shapes}")
+                 f"{se:.2g}, {t:.2g} SE; {_scatter_said(test)}); {shapes}")
     if p_value < alpha and c2 > 0 and late_c2 > 0:
         status, why = "passed", ""
     elif p_value < alpha and c2 < 0:

@@ -189,16 +189,81 @@ def test_fit_result_serializes():
 # --------------------------------------------------------------------------- tests of shape
 
 
-def test_curvature_test_is_the_f_test_of_nested_fits_and_the_t_test_of_c2():
+def test_curvature_test_pooled_is_the_f_test_of_nested_fits_and_the_t_test_of_c2():
     x, y = quadratic_data(sigma=0.2)
-    test = fits.curvature_test(x, y)
+    pooled = fits.curvature_test(x, y)["pooled"]
     line, quad = fits.linear_fit(x, y), fits.quadratic_fit(x, y)
     f_value = (line.ss_res - quad.ss_res) / (quad.ss_res / (x.size - 3))
-    assert test["F"] == pytest.approx(f_value)
-    assert test["F"] == pytest.approx(test["t"] ** 2)          # one extra parameter
-    assert test["p"] == pytest.approx(stats.f.sf(f_value, 1, x.size - 3))
-    assert test["c2"] == pytest.approx(quad.coef[2]) and test["dof"] == x.size - 3
-    assert test["p"] < 0.05 and test["c2"] > 0                 # TRUTH bends up by 0.05
+    assert pooled["F"] == pytest.approx(f_value)
+    assert pooled["F"] == pytest.approx(pooled["t"] ** 2)      # one extra parameter
+    assert pooled["p"] == pytest.approx(stats.f.sf(f_value, 1, x.size - 3))
+    assert pooled["dof"] == x.size - 3
+
+
+def test_curvature_test_uses_each_points_own_scatter_with_satterthwaite_dof():
+    x, y = quadratic_data(sigma=0.2)
+    whole = fits.curvature_test(x, y)
+    test = whole["per_point"]
+    assert whole["c2"] == pytest.approx(fits.quadratic_fit(x, y).coef[2])
+    # Var(c2) = sum_g s_g^2 sum_{j in g} a_j^2, a the x^2 row of the pseudo-inverse.
+    a = np.linalg.pinv(np.vander(x, 3, increasing=True))[2]
+    terms = [np.var(y[x == v], ddof=1) * np.sum(a[x == v] ** 2) for v in np.unique(x)]
+    var = sum(terms)
+    assert test["se"] == pytest.approx(math.sqrt(var))
+    assert test["dof"] == pytest.approx(var ** 2 / sum(t ** 2 / 4 for t in terms))
+    assert 4 <= test["dof"] <= 20                               # between one point's n - 1 and the sum
+    assert test["p"] == pytest.approx(2 * stats.t.sf(abs(test["t"]), test["dof"]))
+    assert test["p"] < 0.05 and whole["c2"] > 0                # TRUTH bends up by 0.05
+    # Resolved only where both tests resolve it: the larger p is the test's.
+    assert whole["p"] == max(test["p"], whole["pooled"]["p"])
+    assert whole["scatter"] == ("per point" if test["p"] >= whole["pooled"]["p"] else "pooled")
+
+
+def test_a_zigzag_of_exact_points_is_not_resolved_by_its_zero_scatter():
+    # Two identical realizations per point: no scatter within a point, so the per-point
+    # SE of c2 is 0; the pooled residual holds the zigzag and keeps it unresolved.
+    x = np.repeat([1.0, 5.0, 10.0, 15.0, 20.0], 2)
+    y = np.repeat([2.0, 9.0, 3.0, 10.0, 4.0], 2)
+    test = fits.curvature_test(x, y)
+    assert test["per_point"]["p"] == 0.0 and test["pooled"]["p"] > 0.05
+    assert test["scatter"] == "pooled" and test["p"] == test["pooled"]["p"]
+
+
+def test_a_point_of_one_realization_borrows_the_noisiest_replicated_scatter():
+    rng = np.random.default_rng(5)
+    x = np.array([1.0] * 5 + [2.5, 5.0, 7.5] + [10.0] * 5)
+    y = 1.0 + 2.0 * x + rng.normal(0.0, 1.0, x.size) * np.where(x < 5, 0.1, 3.0)
+    test = fits.curvature_test(x, y)["per_point"]
+    assert test["borrowed"] == [2.5, 5.0, 7.5] and test["borrowed_from"] == 10.0
+    a = np.linalg.pinv(np.vander(x, 3, increasing=True))[2]
+    s2 = {v: np.var(y[x == v], ddof=1) for v in (1.0, 10.0)}
+    term_1 = s2[1.0] * np.sum(a[x == 1.0] ** 2)
+    term_10 = s2[10.0] * np.sum(a[x >= 2.5] ** 2)              # the borrowed share joins ratio 10's term
+    assert test["se"] == pytest.approx(math.sqrt(term_1 + term_10))
+    assert test["dof"] == pytest.approx((term_1 + term_10) ** 2 / (term_1 ** 2 / 4 + term_10 ** 2 / 4))
+
+
+def test_where_the_scatter_grows_along_the_sweep_the_pooled_test_over_claims_and_this_one_does_not():
+    # A straight line, 5 realizations at the ends, one at each inner point, the scatter
+    # 30 times larger at one end: how often each test calls the line curved at 5 %.
+    called = {"per point": 0, "pooled": 0}
+    draws = 400
+    for seed in range(draws):
+        rng = np.random.default_rng(seed)
+        x = np.array([1.0] * 5 + [2.5, 5.0, 7.5] + [10.0] * 5)
+        sd = np.where(x == 1.0, 0.1, 3.0)
+        test = fits.curvature_test(x, 1.0 + 2.0 * x + rng.normal(0.0, 1.0, x.size) * sd)
+        called["per point"] += test["p"] < 0.05
+        called["pooled"] += test["pooled"]["p"] < 0.05
+    assert called["per point"] <= 0.08 * draws                 # at most its level (borrowing: conservative)
+    assert called["pooled"] >= 0.10 * draws, called            # the pooled scatter: twice its level or more
+
+
+def test_without_a_replicated_point_only_the_pooled_test_exists():
+    x = np.array([0.0, 1.0, 2.0, 3.0, 4.0, 5.0])
+    test = fits.curvature_test(x, 1.0 + x + 0.5 * x ** 2 + np.array([0.1, -0.1, 0.05, 0.0, -0.05, 0.1]))
+    assert test["scatter"] == "pooled" and test["per_point"] is None
+    assert test["p"] == test["pooled"]["p"] and test["dof"] == 3
 
 
 def test_curvature_test_of_a_straight_line_is_not_significant_in_most_draws():

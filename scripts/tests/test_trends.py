@@ -553,8 +553,10 @@ def test_a_noisy_straight_line_of_5x5_runs_is_not_a_quadratic(tmp_path):
     result = results_by_id(analyse(folder, "ratio", "paper"))["pmax_ratio_quadratic"][0]
     assert result.detail["r2_means_quadratic"] > 0.95   # what the old rule passed
     assert result.status == "unresolved" and "a line fits as well" in result.reason
-    assert result.detail["p"] >= 0.05 and abs(result.detail["t"]) < stats.t.ppf(0.975, 22)
-    assert result.detail["p"] == pytest.approx(stats.f.sf(result.detail["t"] ** 2, 1, 22))
+    pooled = result.detail["pooled"]
+    assert result.detail["p"] >= 0.05 and abs(pooled["t"]) < stats.t.ppf(0.975, 22)
+    assert pooled["p"] == pytest.approx(stats.f.sf(pooled["t"] ** 2, 1, 22))
+    assert result.detail["p"] >= pooled["p"] and result.detail["scatter"] in ("per point", "pooled")
 
 
 def test_a_true_quadratic_with_enough_realizations_is_resolved(tmp_path):
