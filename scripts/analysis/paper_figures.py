@@ -32,6 +32,7 @@ from common.figures import save_figure  # noqa: E402
 from .inputs import read_cycles, run_dir, steady_peaks  # noqa: E402
 from .plots import PAPER_FIGURE  # noqa: E402
 from .trends import CHECKS, HALVING_ANGLES  # noqa: E402
+from .verdict_text import result_text  # noqa: E402
 
 
 def _name(a, what: str) -> str:
@@ -115,8 +116,8 @@ def pressure_density(a, out_dir: Path):
             ax.plot(v[:1], p[:1], "o", mfc="none", color=color, ms=8)
             drawn += 1
         result = verdicts.get(CHECKS["pmax_follows_density"].check.format(point=a.point_label(value)))
-        rho = f"rho {result.measured:+.2f}, {result.status}" if result and result.measured is not None else (
-            result.status if result else "not evaluated")
+        shown = result_text(result.status, result.measured).lower() if result else "not evaluated"
+        rho = f"rho {result.measured:+.2f}, {shown}" if result and result.measured is not None else shown
         ax.set_title(f"{a.point_label(value)}: {rho}", fontsize=8)
         ax.set_xlabel("V/V0 at the end of the cooling (denser to the right)", fontsize=7)
         ax.set_ylabel("peak wall pressure of the cycle", fontsize=7)

@@ -34,6 +34,7 @@ from common.fsutil import write_atomic
 from common.paths import REPO_ROOT
 
 from . import fields, headline, paper_figures, plots, trends
+from .verdict_text import RESULT_CLASS, result_text
 from .inputs import ALPHA_C, ANGLE, InputError, load_sweep
 
 DEFAULT_PLAN = REPO_ROOT / "validation" / "campaigns" / "paper.json"
@@ -179,22 +180,7 @@ TABLE1 = (
 #: The checks that read a run's stage_fields.csv (analysis/fields.py).
 STAGE_CHECKS = ("stage_heating_direction", "stage_cooling_direction", "still_zone", "toroidal_cell")
 
-#: Display text and CSS class of a check's status at the paper tier.
-RESULT_TEXT = {"passed": "PASS", "unresolved": "NOT RESOLVED", "contradicted": "CONTRADICTED",
-               "skipped": "SKIP"}
-RESULT_CLASS = {"PASS": "pass", "NOT RESOLVED": "unresolved", "CONTRADICTED": "contradicted",
-                "FAIL": "fail", "SKIP": "skip"}
 NOT_RUN = "NOT YET RUN at the paper's scale"
-
-
-def result_text(status: str, measured) -> str:
-    """A check's result as shown: at the paper tier a resolved opposite is written
-    "failed" (docs/trends.md, States); it is shown as what it is, CONTRADICTED (at the
-    paper's own scale), never as a pass. A value that is not a number is a FAIL."""
-    if status == "failed":
-        finite = measured is not None and math.isfinite(measured)
-        return "CONTRADICTED" if finite else "FAIL"
-    return RESULT_TEXT[status]
 
 
 def _shown(path: Path) -> str:

@@ -130,8 +130,12 @@ def _errorbar_points(ax, a, metric, groups, color, label, fallback_std=None):
     return used_fallback
 
 
+_FIT_STYLES = (("linear", "--", "dashed"), ("quadratic", "-", "solid"))
+
+
 def _fit_lines(ax, info, color, label_prefix=""):
-    for name, style in (("linear", "--"), ("quadratic", "-")):
+    """Draws the fits through the means that exist (a quadratic needs 3 values)."""
+    for name, style, _ in _FIT_STYLES:
         fit = info["means"][name]
         if fit is None:
             continue
@@ -139,6 +143,14 @@ def _fit_lines(ax, info, color, label_prefix=""):
         r2 = f", R^2 = {fit.r2:.3f}" if np.isfinite(fit.r2) else ""
         ax.plot(xs, ys, style, color=color, lw=1.2,
                 label=f"{label_prefix}{name} fit{r2}")
+
+
+def _fits_said(*infos) -> str:
+    """The caption's words for the fit lines drawn, e.g. 'dashed: linear fit, solid:
+    quadratic fit', or that none is drawn: only the fits that exist are named."""
+    said = [f"{word}: {name} fit" for name, _, word in _FIT_STYLES
+            if any(info["means"][name] is not None for info in infos)]
+    return ", ".join(said) if said else "no fit (too few values)"
 
 
 def metric_vs_parameter(a, out_dir: Path):
@@ -164,8 +176,8 @@ def metric_vs_parameter(a, out_dir: Path):
                "of the peaks (P_max_std) instead" if used else ""))
     path = _save(fig, a, out_dir, "P_max",
                  f"Mean peak pressure P_max over the steady-state cycles against {a.x_label} "
-                 f"(realizations per point: {n}); error bars: {bars}; dashed: linear fit, "
-                 f"solid: quadratic fit (mirrors the paper's {PAPER_FIGURE[(a.kind, 'P_max')]}).")
+                 f"(realizations per point: {n}); error bars: {bars}; {_fits_said(info)} "
+                 f"(mirrors the paper's {PAPER_FIGURE[(a.kind, 'P_max')]}).")
     return [path], []
 
 
@@ -187,8 +199,8 @@ def wrms_vs_parameter(a, out_dir: Path):
     path = _save(fig, a, out_dir, "W_rms",
                  f"RMS vorticity W_rms of the accumulated displacement per window of cycles "
                  f"against {a.x_label}; error bars: one standard deviation over the "
-                 f"realizations; dashed: linear fit, solid: quadratic fit (mirrors the paper's "
-                 f"{PAPER_FIGURE[(a.kind, 'wrms')]}).")
+                 f"realizations; {_fits_said(*(a.metrics[w.column] for w in windows))} (mirrors "
+                 f"the paper's {PAPER_FIGURE[(a.kind, 'wrms')]}).")
     return [path], []
 
 

@@ -1019,6 +1019,19 @@ def test_plots_without_run_folders_only_need_the_summary(tmp_path):
     assert len(notes) == 3
 
 
+def test_a_caption_names_only_the_fits_that_are_drawn(tmp_path):
+    # Two angles (the halving's 0 and 6 deg): a line through the means, no quadratic.
+    folder = build_sweep(tmp_path / "a", "angle", (0.0, 6.0), halving, realizations=2)
+    a = analyse(folder, "angle")
+    plots.make_all(a, tmp_path / "out")
+    caption = (tmp_path / "out" / "figures" / "trends_a_angle_P_max.txt").read_text()
+    assert "dashed: linear fit" in caption and "quadratic" not in caption
+    folder = build_sweep(tmp_path / "b", "angle", ANGLES, halving, realizations=1)
+    plots.make_all(analyse(folder, "angle"), tmp_path / "out-b")
+    caption = (tmp_path / "out-b" / "figures" / "trends_b_angle_P_max.txt").read_text()
+    assert "dashed: linear fit, solid: quadratic fit" in caption
+
+
 def test_volume_figure_falls_back_on_cycles(tmp_path):
     folder = build_sweep(tmp_path / "a", "angle", ANGLES, halving, runs=True,
                          run_options={"timeseries": False})
