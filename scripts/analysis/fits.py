@@ -328,19 +328,18 @@ def _per_point_curvature(x: np.ndarray, y: np.ndarray, c2: float) -> dict | None
     n = np.bincount(group, minlength=values.size)
     big_a = np.bincount(group, weights=a ** 2, minlength=values.size)
     replicated = [g for g in range(values.size) if n[g] >= 2]
+    single = [g for g in range(values.size) if n[g] < 2]
     if not replicated:
         return None
     var = {g: float(np.var(y[group == g], ddof=1)) for g in replicated}
     noisiest = max(replicated, key=lambda g: var[g])
     share = {g: float(big_a[g]) for g in replicated}
-    for g in range(values.size):
-        if n[g] < 2:
-            share[noisiest] += float(big_a[g])
+    share[noisiest] += float(sum(big_a[g] for g in single))
     terms = {g: var[g] * share[g] for g in replicated}
     total = sum(terms.values())
     se = math.sqrt(total)
-    borrowed = [float(values[g]) for g in range(values.size) if n[g] < 2]
-    record = {"se": se, "borrowed": borrowed, "borrowed_from": float(values[noisiest]) if borrowed else None,
+    record = {"se": se, "borrowed": [float(values[g]) for g in single],
+              "borrowed_from": float(values[noisiest]) if single else None,
               "point_sd": {float(values[g]): math.sqrt(var[g]) for g in replicated}}
     if total > 0:
         dof = total ** 2 / sum(term ** 2 / (n[g] - 1) for g, term in terms.items() if term > 0)

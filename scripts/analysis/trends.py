@@ -278,7 +278,7 @@ CHECKS: dict[str, CheckDef] = {c.id: c for c in (
         id="wrms_ratio_quadratic", sweep="ratio", check="W_rms[{window}] curvature vs alpha_c/alpha_p",
         figure="Fig. 7b",
         rule="as pmax_ratio_quadratic, per vorticity window: pass c2 > 0 with the t test of "
-             "c2 (each point's own scatter) p < 1 - level; c2 < 0 with p < 1 - level: "
+             "c2 (as pmax_ratio_quadratic: the larger p of the per-point and pooled tests) p < 1 - level; c2 < 0 with p < 1 - level: "
              "opposite resolved; else not resolved ('a line fits as well'); needs >= 4 ratios "
              "and >= 4 runs",
         tolerance=_LEVEL,
@@ -316,7 +316,7 @@ CHECKS: dict[str, CheckDef] = {c.id: c for c in (
              "each window scaled by its mean over the runs (the later window's vorticity is "
              "smaller: the shape is compared, not the size); quadratic fit of d against the "
              "ratio, paired per run: its c2 is the later window's relative curvature minus the "
-             "earlier's; t test of c2 (as pmax_ratio_quadratic, each point's own scatter): pass "
+             "earlier's; t test of c2 (as pmax_ratio_quadratic: the larger p of the per-point and pooled tests): pass "
              "c2 > 0 with p < 1 - level and the later window bending up (its own c2 > 0, as the "
              "paper's quadratic); opposite resolved: c2 < 0 with p < 1 - level; else not "
              "resolved; needs >= 4 ratios and >= 4 runs",
