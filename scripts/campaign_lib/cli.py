@@ -225,21 +225,31 @@ def print_dry_run(states, estimate, budget, jobs, min_slice) -> None:
         f"{estimate.source}{per_point(estimate)})")
     slots = [0.0] * jobs   # when each slot is free, in seconds from now
     fitting = partial = 0
-    for s in queue:
-        need = estimate.for_run(s.run) * (1.0 - s.progress.fraction)
+    left = list(queue)
+    order = []   # (state, start seconds or None, fits), in the order they would start
+    while left:
         slot = min(range(jobs), key=lambda i: slots[i])
         begin = slots[slot]
-        fits = budget is None or begin + need <= budget
-        starts = fits or (min_slice > 0.0 and begin <= budget - min_slice)   # as Runner._next_fitting
-        if fits:
-            slots[slot] += need
-            fitting += 1
-        elif starts:
-            slots[slot] = budget
-            partial += 1
+        needs = [estimate.for_run(s.run) * (1.0 - s.progress.fraction) for s in left]
+        if budget is None:
+            index, fits = 0, True
+        else:   # as Runner._next_fitting
+            index, fits = state.choose(needs, budget - begin, min_slice)
+        if index is None:
+            order += [(s, None, False) for s in left]
+            break
+        order.append((left[index], begin, fits))
+        slots[slot] = begin + needs[index] if fits else budget
+        fitting, partial = fitting + fits, partial + (not fits)
+        left.pop(index)
+        if min_slice == 0.0 and budget is not None:
+            # Runs before the chosen one did not fit and never will (Runner drops them).
+            order += [(s, None, False) for s in left[:index]]
+            del left[:index]
+    for s, begin, fits in order:
         why = f"; rerun of a stale result ({s.verdict.reason})" if s.stale else ""
-        when = f", would start at +{state.hours(begin)}" if starts and budget is not None else ""
-        mark = "" if fits else (" [stops at a checkpoint when the budget ends]" if starts else
+        when = f", would start at +{state.hours(begin)}" if begin is not None and budget is not None else ""
+        mark = "" if fits else (" [stops at a checkpoint when the budget ends]" if begin is not None else
                                 " [not within the budget]")
         say(f"  {s.run.label:28s} {s.progress.text()}{why}{when}{mark}")
     if budget is not None:

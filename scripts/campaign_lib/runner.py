@@ -21,7 +21,7 @@ from . import store
 from .engine import Engine, file_sha256
 from .pace import Pace
 from .plan import Plan, same_json
-from .state import RunState, hours, one_thread_cpu
+from .state import RunState, choose, hours, one_thread_cpu
 from .workdir import collect_packings, share_packings
 
 POLL_SECONDS = 0.5
@@ -132,29 +132,29 @@ class Runner:
         return outcome
 
     def _next_fitting(self, queue: list):
-        """The first run of the queue whose estimated remaining cost fits the time left,
-        or any run while at least the minimum slice is left (a run longer than a session
-        goes on in installments); the ones that do not start are dropped for this
-        invocation."""
-        waiting = []   # (label, need) of the runs dropped here: said in one line
-        chosen = None
-        while queue and not self.binary_changed:
-            state = queue[0]
-            state.progress = state.folder.progress()
-            need = self.estimate(state.run) * (1.0 - state.progress.fraction)
-            if need <= self.left():
-                chosen = queue.pop(0)
-                break
-            if self.min_slice > 0.0 and self.left() >= self.min_slice:
-                self.say(f"budget: {state.run.label} needs about {hours(need)}, {hours(self.left())} left: it "
-                         "starts and stops at a checkpoint when the budget ends")
-                chosen = queue.pop(0)
-                break
-            waiting.append((state.run.label, need))
-            queue.pop(0)
-        if waiting:
-            self.say(self._not_starting(waiting))
-        return chosen
+        """The next run to start (state.choose): the first of the queue whose estimated
+        remaining cost fits the time left, else the first while at least the minimum slice
+        is left (a run longer than a session goes on in installments). Without a minimum
+        slice, the runs that do not fit are dropped for this invocation (the time left only
+        shrinks); with one, they wait for the fitting runs to have started."""
+        if not queue or self.binary_changed:
+            return None
+        for s in queue:
+            s.progress = s.folder.progress()
+        needs = [self.estimate(s.run) * (1.0 - s.progress.fraction) for s in queue]
+        index, fits = choose(needs, self.left(), self.min_slice)
+        if index is None:
+            self.say(self._not_starting([(s.run.label, n) for s, n in zip(queue, needs)]))
+            queue.clear()
+            return None
+        if fits and index > 0 and self.min_slice == 0.0:
+            self.say(self._not_starting([(s.run.label, n) for s, n in zip(queue[:index], needs[:index])]))
+            del queue[:index]
+            index = 0
+        elif not fits:
+            self.say(f"budget: {queue[index].run.label} needs about {hours(needs[index])}, {hours(self.left())} "
+                     "left: it starts and stops at a checkpoint when the budget ends")
+        return queue.pop(index)
 
     def _not_starting(self, waiting: list) -> str:
         """One line for the runs the budget leaves for the next invocation; without a

@@ -153,6 +153,20 @@ def todo(states: list) -> list:
     return [s for s in left if s.started] + [s for s in left if not s.started]
 
 
+def choose(needs: list, left: float, min_slice: float):
+    """Which run of the queue starts next, given each one's remaining seconds (`needs`, in
+    the queue's order) and the budget's seconds `left`: the first that fits, since only a
+    finished run is stored and kept whatever becomes of the work folder; else, while at
+    least `min_slice` is left, the first of the queue, to stop at a checkpoint when the
+    budget ends. Returns (index, fits), or (None, False) when nothing starts."""
+    for i, need in enumerate(needs):
+        if need <= left:
+            return i, True
+    if needs and min_slice > 0.0 and left >= min_slice:
+        return 0, False
+    return None, False
+
+
 def hours(seconds: float) -> str:
     seconds = max(0.0, seconds)
     if seconds < 120:

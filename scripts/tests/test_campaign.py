@@ -435,6 +435,54 @@ def test_the_estimate_is_the_stored_runs_cpu_time_scaled_by_the_thread_factor():
     assert state.thread_factor(1) == 1.0 and state.thread_factor(16) == pytest.approx(0.48 + 0.52 / 16)
 
 
+def test_with_a_minimum_slice_a_run_that_fits_starts_before_one_that_would_stop_at_a_checkpoint(capsys):
+    # Only a finished run is stored whatever becomes of the work folder, so a slice comes
+    # after the runs that fit (the paper plan's ratio-5 runs, 3.6 h, came first in its order
+    # and took a session's budget from a 2.2 h run at ratio 2.5, 2026-12-02).
+    from campaign_lib import cli, state
+    from campaign_lib.runner import Runner
+    assert state.choose([3.6, 2.2, 2.0], 2.8, 0.0) == (1, True)
+    assert state.choose([3.6, 3.8], 2.8, 0.3) == (0, False)
+    assert state.choose([3.6, 3.8], 0.2, 0.3) == (None, False)
+    assert state.choose([3.6, 3.8], 2.8, 0.0) == (None, False)
+    assert state.choose([], 2.8, 0.3) == (None, False)
+
+    class _Progress:
+        fraction = 0.0
+
+        def text(self):
+            return "not started"
+
+    def queued(label, hours):
+        run = SimpleNamespace(label=label, point=SimpleNamespace(name=label), hours=hours)
+        return SimpleNamespace(run=run, progress=_Progress(), stale=False, done=False, started=False,
+                               verdict=None, folder=SimpleNamespace(progress=_Progress))
+
+    def queue():
+        return [queued("ratio5/seed2", 3.6), queued("ratio2.5/seed3", 2.2), queued("ratio7.5/seed2", 3.8)]
+    estimate = SimpleNamespace(seconds=3600.0, source="test",
+                               for_run=lambda run: run.hours * 3600.0, by_point={})
+    runner = Runner.__new__(Runner)
+    runner.estimate, runner.binary_changed, runner.say = estimate.for_run, False, lambda text: None
+    runner.left = lambda: 2.8 * 3600.0
+    runner.min_slice = 1200.0
+    q = queue()
+    assert runner._next_fitting(q).run.label == "ratio2.5/seed3"
+    assert [s.run.label for s in q] == ["ratio5/seed2", "ratio7.5/seed2"]   # kept for a slice
+    runner.left = lambda: 0.6 * 3600.0
+    assert runner._next_fitting(q).run.label == "ratio5/seed2"             # the plan's order
+    runner.min_slice, q = 0.0, queue()
+    runner.left = lambda: 2.8 * 3600.0
+    assert runner._next_fitting(q).run.label == "ratio2.5/seed3" and [s.run.label for s in q] == ["ratio7.5/seed2"]
+    assert runner._next_fitting(q) is None and q == []
+    # The dry run says the same order.
+    cli.print_dry_run(queue(), estimate, 2.8 * 3600.0, 1, 1200.0)
+    lines = [line for line in capsys.readouterr().out.splitlines() if "/seed" in line]
+    assert "ratio2.5/seed3" in lines[0] and "+0.0 s" in lines[0] and "[" not in lines[0], lines
+    assert "ratio5/seed2" in lines[1] and "+2.20 h" in lines[1] and "[stops at a checkpoint" in lines[1], lines
+    assert "ratio7.5/seed2" in lines[2] and "[not within the budget]" in lines[2], lines
+
+
 def test_the_engine_id_follows_the_binary_sources_not_its_tests_or_benchmarks(tmp_path):
     def commit(path, text):
         (tmp_path / path).parent.mkdir(parents=True, exist_ok=True)
