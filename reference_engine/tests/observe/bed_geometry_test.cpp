@@ -3,6 +3,7 @@
 #include "ratchet/observe/bed_geometry.hpp"
 
 #include <gtest/gtest.h>
+#include <omp.h>
 
 #include <algorithm>
 #include <cmath>
@@ -93,6 +94,25 @@ TEST(BedGeometry, TheTopIsTheHighestPlacedPoint) {
     ASSERT_NEAR(top, highest, 1e-14) << "orientation " << k;
     ASSERT_GT(top, st.x[1].z() + 0.49) << "orientation " << k;  // a cube's top vertex is at least 0.5 up
   }
+}
+
+// On a bed large enough for its parallel maximum (more than 256 bodies): the highest
+// top, the same on 1, 2, 3 and 8 threads.
+TEST(BedGeometry, TheBedHeightOfALargeBedIsTheSameOnAnyNumberOfThreads) {
+  json bodies = json::array();
+  for (int i = 0; i < 600; ++i)
+    bodies.push_back({{"shape", "sphere"}, {"radius", 0.5},
+                      {"position", {1.5 * (i % 25), 1.5 * (i / 25), 0.5 + 0.001 * ((i * 37) % 600)}}});
+  const SceneDef s = build_scene(json{{"name", "bed"}, {"time", {{"dt", 0.01}, {"duration", 1.0}}},
+                                      {"particles", {{"bodies", bodies}}}},
+                                 "bed.json");
+  const State st = state_of(s);
+  const int saved = omp_get_max_threads();
+  for (int threads : {1, 2, 3, 8}) {
+    omp_set_num_threads(threads);
+    EXPECT_EQ(bed_height(s, st), 0.5 + 0.001 * 599 + 0.5) << threads << " threads";  // the body with (37 i) % 600 = 599
+  }
+  omp_set_num_threads(saved);
 }
 
 }  // namespace

@@ -1,8 +1,11 @@
 // Phase 4, first half: from the step's contact list to the solver's rows (local
 // frames, Delassus blocks, expansion velocities, gap biases) and their warm start.
 // docs/method.md s. 4-5, 9.
+#include <omp.h>
+
 #include <algorithm>
 #include <cmath>
+#include <tuple>
 
 #include "ratchet/solver/local_coulomb.hpp"
 #include "ratchet/world/test_hooks.hpp"
@@ -48,7 +51,7 @@ void World::build_rows() {
   double min_gap = 0.0;
   const int n = static_cast<int>(s.contacts.size());
   // Each row from its own contact: any split among threads gives the same rows (min is exact).
-  const int parallel_min = test_hooks().parallel_min_rows >= 0 ? test_hooks().parallel_min_rows : kParallelMinRows;
+  const int parallel_min = parallel_min_rows();
 #pragma omp parallel for schedule(static) reduction(min : min_gap) if (n > parallel_min)
   for (int k = 0; k < n; ++k) {
     SolverContact& c = s.contacts[static_cast<std::size_t>(k)];
@@ -133,30 +136,45 @@ void World::build_rows() {
 
 // Impulses of the previous step for the same (bodies, features), projected onto the
 // new frame, clipped to the friction cone and applied before the first sweep, in the
-// contacts' (colour) order. They are looked up in the order gathered (find_kept_impulses).
+// contacts' (colour) order. The groups of a colour share no moving body, so threads split
+// them as the sweep does: every body gets its impulses in the same order, the same bits
+// for any thread count. They are looked up in the order gathered (find_kept_impulses).
 void World::warm_start(SolverBodies& bodies) {
   if (!scene_.solver.warm_start || state_.impulses.empty()) return;
   StepScratch& s = scratch_;
   const bool spring = friction_on_ && scene_.solver.compliance > 0.0 &&
                       scene_.solver.tangential_law == TangentialLaw::Spring;
   find_kept_impulses();
-  for (std::size_t k = 0; k < s.contacts.size(); ++k) {
-    const int found = s.kept_impulse[static_cast<std::size_t>(s.order[k])];
-    if (found < 0) continue;
-    const SolverContact& c = s.contacts[k];
+  const BodyArrays B = arrays_of(bodies);
+  auto start = [&](int k) {
+    const std::size_t j = static_cast<std::size_t>(k);
+    const int found = s.kept_impulse[static_cast<std::size_t>(s.order[j])];
+    if (found < 0) return;
+    const SolverContact& c = s.contacts[j];
     const Vec3& P = state_.impulses[static_cast<std::size_t>(found)].impulse;
     const Vec3 lambda = friction_on_
                             ? clip_kept_impulse(Vec3(c.geometry.normal.dot(P), c.t1.dot(P), c.t2.dot(P)), c.mu)
                             : Vec3(std::max(0.0, c.geometry.normal.dot(P)), 0.0, 0.0);
-    s.rows[k].lambda = lambda;
+    s.rows[j].lambda = lambda;
     // The spring law: the local law on u + c (lambda - lambda_kept), so a sticking contact
     // that keeps its load keeps its place (docs/method.md s. 5, Tangential law).
     if (spring) {
-      const double c_row = row_compliance(s.rows[k], scene_.solver.compliance);
-      s.rows[k].u0[1] -= c_row * lambda[1];
-      s.rows[k].u0[2] -= c_row * lambda[2];
+      const double c_row = row_compliance(s.rows[j], scene_.solver.compliance);
+      s.rows[j].u0[1] -= c_row * lambda[1];
+      s.rows[j].u0[2] -= c_row * lambda[2];
     }
-    apply_local_impulse(s.rows[k], lambda, arrays_of(bodies), rotation_on_);
+    apply_local_impulse(s.rows[j], lambda, B, rotation_on_);
+  };
+  const RowColouring& col = s.colouring;
+  const int* gb = col.group_begin.data();
+  const int* cb = col.colour_begin.data();
+  const int nc = col.colours(), n = static_cast<int>(s.contacts.size());
+  const int parallel_min = parallel_min_rows();
+#pragma omp parallel if (n > parallel_min)
+  for (int colour = 0; colour < nc; ++colour) {
+#pragma omp for schedule(static)
+    for (int grp = cb[colour]; grp < cb[colour + 1]; ++grp)
+      for (int k = gb[grp]; k < gb[grp + 1]; ++k) start(k);
   }
 }
 
@@ -164,34 +182,56 @@ void World::warm_start(SolverBodies& bodies) {
 // the first with its key, as a binary search would find it. Gathered body pairs come in
 // ascending (a, b), so one pointer walks the impulses alongside; wall contacts come body
 // by body (each body's walls in descending b), so a second pointer finds each body's
-// first impulse and its few wall impulses are scanned.
+// first impulse and its few wall impulses are scanned. Each thread walks its own share
+// of the gathered contacts, its pointers started by a binary search at the share's first
+// body: the answer is a function of the key alone, the same for any split.
 void World::find_kept_impulses() {
   StepScratch& s = scratch_;
   const std::vector<KeptImpulse>& kept = state_.impulses;
-  const std::size_t n = s.row_a.size(), nk = kept.size();
-  s.kept_impulse.assign(n, -1);
-  std::vector<int> contact_of(n);  // gathered index -> its place in the colour order
-  for (std::size_t j = 0; j < n; ++j) contact_of[static_cast<std::size_t>(s.order[j])] = static_cast<int>(j);
-  auto key_of = [&](std::size_t g) {
-    const ContactPoint& p = s.contacts[static_cast<std::size_t>(contact_of[g])].geometry;
-    return ContactKey{s.row_a[g], s.row_b[g], p.feature_a, p.feature_b};
+  const int n = static_cast<int>(s.row_a.size());
+  const std::size_t nk = kept.size();
+  s.kept_impulse.assign(static_cast<std::size_t>(n), -1);
+  std::vector<int> contact_of(static_cast<std::size_t>(n));  // gathered index -> its place in the colour order
+  // The body pairs' contacts come before the walls'.
+  const int pair_rows = static_cast<int>(
+      std::partition_point(s.row_b.begin(), s.row_b.end(), [](int b) { return !is_wall(b); }) - s.row_b.begin());
+  auto key_of = [&](int g) {
+    const std::size_t k = static_cast<std::size_t>(g);
+    const ContactPoint& p = s.contacts[static_cast<std::size_t>(contact_of[k])].geometry;
+    return ContactKey{s.row_a[k], s.row_b[k], p.feature_a, p.feature_b};
   };
-  std::size_t pair_at = 0, body_at = 0;
-  for (std::size_t g = 0; g < n; ++g) {
-    const ContactKey key = key_of(g);
-    std::size_t i;
-    if (!is_wall(key.b)) {
-      while (pair_at < nk && std::tie(kept[pair_at].key.a, kept[pair_at].key.b) < std::tie(key.a, key.b)) ++pair_at;
-      i = pair_at;
-    } else {
-      while (body_at < nk && kept[body_at].key.a < key.a) ++body_at;
-      i = body_at;
-    }
-    for (; i < nk && kept[i].key.a == key.a && (kept[i].key < key || kept[i].key == key); ++i)
-      if (kept[i].key == key) {
-        s.kept_impulse[g] = static_cast<int>(i);
-        break;
+  auto first_of_body = [&](int body) {
+    return static_cast<std::size_t>(
+        std::partition_point(kept.begin(), kept.end(), [&](const KeptImpulse& k) { return k.key.a < body; }) -
+        kept.begin());
+  };
+  const int parallel_min = parallel_min_rows();
+#pragma omp parallel if (n > parallel_min)
+  {
+#pragma omp for schedule(static)
+    for (int j = 0; j < n; ++j) contact_of[static_cast<std::size_t>(s.order[static_cast<std::size_t>(j)])] = j;
+    const int threads = omp_get_num_threads(), me = omp_get_thread_num();
+    const int begin = static_cast<int>(static_cast<long long>(n) * me / threads);
+    const int end = static_cast<int>(static_cast<long long>(n) * (me + 1) / threads);
+    std::size_t pair_at = begin < std::min(end, pair_rows) ? first_of_body(s.row_a[static_cast<std::size_t>(begin)]) : 0;
+    const int first_wall = std::max(begin, pair_rows);
+    std::size_t body_at = first_wall < end ? first_of_body(s.row_a[static_cast<std::size_t>(first_wall)]) : 0;
+    for (int g = begin; g < end; ++g) {
+      const ContactKey key = key_of(g);
+      std::size_t i;
+      if (!is_wall(key.b)) {
+        while (pair_at < nk && std::tie(kept[pair_at].key.a, kept[pair_at].key.b) < std::tie(key.a, key.b)) ++pair_at;
+        i = pair_at;
+      } else {
+        while (body_at < nk && kept[body_at].key.a < key.a) ++body_at;
+        i = body_at;
       }
+      for (; i < nk && kept[i].key.a == key.a && (kept[i].key < key || kept[i].key == key); ++i)
+        if (kept[i].key == key) {
+          s.kept_impulse[static_cast<std::size_t>(g)] = static_cast<int>(i);
+          break;
+        }
+    }
   }
 }
 

@@ -229,10 +229,13 @@ void World::gather_contacts() {
     for (std::size_t i = 0; i < scene_.bodies.size(); ++i) s.moving[i] = !scene_.bodies[i].fixed;
   }
   colour_rows(s.row_a, s.row_b, s.moving, s.order, s.colouring);
-  const std::size_t n = s.row_a.size();
-  s.contacts.resize(n);
-  for (std::size_t j = 0; j < n; ++j) {
-    const std::size_t g = static_cast<std::size_t>(s.order[j]);
+  const int n = static_cast<int>(s.row_a.size());
+  s.contacts.resize(static_cast<std::size_t>(n));
+  const int parallel_min = parallel_min_rows();
+  // Each contact from its own manifold point: any split among threads gives the same list.
+#pragma omp parallel for schedule(static) if (n > parallel_min)
+  for (int j = 0; j < n; ++j) {
+    const std::size_t g = static_cast<std::size_t>(s.order[static_cast<std::size_t>(j)]);
     const GatheredFrom from = s.gathered_from[g];
     const bool wall = from.manifold < 0;
     const ContactManifold& m = wall ? s.wall_manifolds[static_cast<std::size_t>(-1 - from.manifold)]
@@ -242,7 +245,7 @@ void World::gather_contacts() {
     sc.b = s.row_b[g];
     sc.geometry = m.points[static_cast<std::size_t>(from.point)];
     sc.mu = wall ? scene_.materials.wall_friction : scene_.materials.friction;
-    s.contacts[j] = sc;
+    s.contacts[static_cast<std::size_t>(j)] = sc;
   }
 }
 

@@ -4,6 +4,8 @@
 // once per step, outside the sweeps; never set by the ratchet program.
 #pragma once
 
+#include "ratchet/solver/solver_rows.hpp"
+
 namespace ratchet {
 
 // What manifold reuse changed (solver.manifold_reuse): every replayed pair is also built
@@ -23,5 +25,10 @@ struct TestHooks {
 };
 
 TestHooks& test_hooks();
+
+// The step's row count above which its per-row loops run on all threads.
+inline int parallel_min_rows() {
+  return test_hooks().parallel_min_rows >= 0 ? test_hooks().parallel_min_rows : kParallelMinRows;
+}
 
 }  // namespace ratchet

@@ -1,5 +1,7 @@
 #include "ratchet/world/world.hpp"
 
+#include <omp.h>
+
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -154,7 +156,7 @@ void World::solve() {
   settings.compliance = scene_.solver.compliance;
   settings.rigid = scene_.solver.compliance == 0.0;
   settings.colouring = &scratch_.colouring;
-  if (test_hooks().parallel_min_rows >= 0) settings.parallel_min_rows = test_hooks().parallel_min_rows;
+  settings.parallel_min_rows = parallel_min_rows();
   scratch_.solver.v_free = state_.v;  // stored once: the velocity criterion and the jam's re-solve read it
   scratch_.solver.w_free = state_.w;
   warm_start(bodies);
@@ -178,7 +180,10 @@ void World::solve() {
   if (r.relaxation < 1.0) ++totals_.relaxed_steps;
   totals_.tangential_solves += tangential;
   totals_.total_iterations += sweeps;
-  for (std::size_t k = 0; k < scratch_.contacts.size(); ++k) scratch_.contacts[k].lambda = scratch_.rows[k].lambda;
+  const int n = static_cast<int>(scratch_.contacts.size());
+#pragma omp parallel for schedule(static) if (n > parallel_min_rows())
+  for (int k = 0; k < n; ++k)
+    scratch_.contacts[static_cast<std::size_t>(k)].lambda = scratch_.rows[static_cast<std::size_t>(k)].lambda;
 }
 
 // 4a. The global solve of the step's rows by solver.method: the one place a method is chosen.
@@ -250,10 +255,34 @@ void World::integrate() {
 void World::keep_impulses() {
   state_.impulses.clear();
   if (stats_.normal_growth) return;
-  for (const SolverContact& c : scratch_.contacts) {
-    if (c.lambda[0] <= 0.0) continue;
-    state_.impulses.push_back({{c.a, c.b, c.geometry.feature_a, c.geometry.feature_b},
-                               c.geometry.normal * c.lambda[0] + c.t1 * c.lambda[1] + c.t2 * c.lambda[2]});
+  // The loaded contacts in their order, each thread writing its share's at the place a
+  // count of the shares before it gives: the list one thread would make.
+  const std::vector<SolverContact>& contacts = scratch_.contacts;
+  const int n = static_cast<int>(contacts.size());
+  std::vector<int> share_begin;
+#pragma omp parallel if (n > parallel_min_rows())
+  {
+    const int threads = omp_get_num_threads(), me = omp_get_thread_num();
+    const int begin = static_cast<int>(static_cast<long long>(n) * me / threads);
+    const int end = static_cast<int>(static_cast<long long>(n) * (me + 1) / threads);
+#pragma omp single
+    share_begin.assign(static_cast<std::size_t>(threads) + 1, 0);
+    int loaded = 0;
+    for (int k = begin; k < end; ++k) loaded += contacts[static_cast<std::size_t>(k)].lambda[0] > 0.0;
+    share_begin[static_cast<std::size_t>(me) + 1] = loaded;
+#pragma omp barrier
+#pragma omp single
+    {
+      for (int t = 0; t < threads; ++t) share_begin[static_cast<std::size_t>(t) + 1] += share_begin[static_cast<std::size_t>(t)];
+      state_.impulses.resize(static_cast<std::size_t>(share_begin.back()));
+    }
+    std::size_t at = static_cast<std::size_t>(share_begin[static_cast<std::size_t>(me)]);
+    for (int k = begin; k < end; ++k) {
+      const SolverContact& c = contacts[static_cast<std::size_t>(k)];
+      if (c.lambda[0] <= 0.0) continue;
+      state_.impulses[at++] = {{c.a, c.b, c.geometry.feature_a, c.geometry.feature_b},
+                               c.geometry.normal * c.lambda[0] + c.t1 * c.lambda[1] + c.t2 * c.lambda[2]};
+    }
   }
   std::sort(state_.impulses.begin(), state_.impulses.end(),
             [](const KeptImpulse& x, const KeptImpulse& y) { return x.key < y.key; });
