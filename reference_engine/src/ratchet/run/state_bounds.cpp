@@ -12,67 +12,69 @@ namespace {
 constexpr int kNamed = 3;  // bodies named in the message; the count says how many more
 constexpr int kParallelMinBodies = 256;  // fewer: a parallel region costs more than it saves
 
-// Whether any body breaks a bound of unphysical_state, without saying which: it runs
-// every step and almost always finds nothing, so it looks on all threads ("any" and the
-// smallest radius are exact in any order) and the message is made on one.
-bool any_unphysical(const World& world) {
-  const SceneDef& scene = world.scene();
-  const State& s = world.state();
-  const int n = static_cast<int>(scene.bodies.size());
-  const int nw = static_cast<int>(scene.container.walls.size());
-  const double margin = scene.solver.contact_margin;
-  const double h = scene.dt;
-  std::vector<Vec3> wall_points(static_cast<std::size_t>(nw));
-  for (int w = 0; w < nw; ++w) wall_points[static_cast<std::size_t>(w)] = world.wall_point(w);
+// The bounds of one state, body by body, for the look on all threads and the message.
+// The container is an intersection of half-spaces (cone segments, floor, planes): a
+// centre behind any of them by more than the body's own size is outside it.
+struct Bounds {
+  const World& world;
+  std::vector<Vec3> wall_points;
+
+  explicit Bounds(const World& w) : world(w) {
+    for (int k = 0; k < static_cast<int>(w.scene().container.walls.size()); ++k) wall_points.push_back(w.wall_point(k));
+  }
+  double size(int i) const { return world.scene().bodies[static_cast<std::size_t>(i)].bounding_radius * world.body_scale(i); }
+  // How far body i's centre lies behind wall w (positive: behind it).
+  double behind(int i, int w) const {
+    return -world.scene().container.walls[static_cast<std::size_t>(w)].normal.dot(
+        world.state().x[static_cast<std::size_t>(i)] - wall_points[static_cast<std::size_t>(w)]);
+  }
+  // The wall body i's centre lies behind by more than its size, or -1.
+  int outside(int i) const {
+    const double reach = size(i) + world.scene().solver.contact_margin;
+    for (int w = 0; w < static_cast<int>(wall_points.size()); ++w)
+      if (behind(i, w) > reach) return w;
+    return -1;
+  }
+  double travel(int i) const { return world.state().v[static_cast<std::size_t>(i)].norm() * world.scene().dt; }
+};
+
+// Whether any body breaks a bound, without saying which: it runs every step and almost
+// always finds nothing, so it looks on all threads ("any" and the smallest size are exact
+// in any order) and the message is made on one.
+bool any_unphysical(const Bounds& bounds) {
+  const std::vector<BodyDef>& bodies = bounds.world.scene().bodies;
+  const int n = static_cast<int>(bodies.size());
   double r_min = std::numeric_limits<double>::infinity();
   bool bad = false;
 #pragma omp parallel for schedule(static) reduction(min : r_min) reduction(|| : bad) if (n > kParallelMinBodies)
   for (int i = 0; i < n; ++i) {
-    const BodyDef& b = scene.bodies[static_cast<std::size_t>(i)];
-    if (b.fixed) continue;
-    const double size = b.bounding_radius * world.body_scale(i);
+    if (bodies[static_cast<std::size_t>(i)].fixed) continue;
+    const double size = bounds.size(i);
     r_min = std::min(r_min, size);
-    const Vec3& x = s.x[static_cast<std::size_t>(i)];
-    for (int w = 0; w < nw; ++w)
-      if (scene.container.walls[static_cast<std::size_t>(w)].normal.dot(x - wall_points[static_cast<std::size_t>(w)]) <
-          -(size + margin))
-        bad = true;
-    if (s.v[static_cast<std::size_t>(i)].norm() * h > size) bad = true;
+    if (bounds.outside(i) >= 0 || bounds.travel(i) > size) bad = true;
   }
-  return bad || world.stats().max_overlap > r_min;
+  return bad || bounds.world.stats().max_overlap > r_min;
 }
 
 }  // namespace
 
 std::string unphysical_state(const World& world) {
-  if (!any_unphysical(world)) return "";
+  const Bounds bounds(world);
+  if (!any_unphysical(bounds)) return "";
   const SceneDef& scene = world.scene();
-  const State& s = world.state();
   const int n = static_cast<int>(scene.bodies.size());
-  const int nw = static_cast<int>(scene.container.walls.size());
-  const double margin = scene.solver.contact_margin;
-  // The container is an intersection of half-spaces (cone segments, floor, planes): a
-  // centre behind any of them by more than the body's own size is outside it.
   std::string names;
   int outside = 0;
   double r_min = std::numeric_limits<double>::infinity();  // smallest free body, for the overlap bound
   for (int i = 0; i < n; ++i) {
-    const BodyDef& b = scene.bodies[static_cast<std::size_t>(i)];
-    if (b.fixed) continue;
-    r_min = std::min(r_min, b.bounding_radius * world.body_scale(i));
-    const double reach = b.bounding_radius * world.body_scale(i) + margin;
-    for (int w = 0; w < nw; ++w) {
-      const WallDef& wall = scene.container.walls[static_cast<std::size_t>(w)];
-      const double d = wall.normal.dot(s.x[static_cast<std::size_t>(i)] - world.wall_point(w));
-      if (d < -reach) {
-        if (++outside <= kNamed) {
-          char text[160];
-          std::snprintf(text, sizeof text, "%sbody %d (centre %.3g behind wall %d, size %.3g)", names.empty() ? "" : ", ",
-                        i, -d, w, reach - margin);
-          names += text;
-        }
-        break;
-      }
+    if (scene.bodies[static_cast<std::size_t>(i)].fixed) continue;
+    r_min = std::min(r_min, bounds.size(i));
+    const int w = bounds.outside(i);
+    if (w >= 0 && ++outside <= kNamed) {
+      char text[160];
+      std::snprintf(text, sizeof text, "%sbody %d (centre %.3g behind wall %d, size %.3g)", names.empty() ? "" : ", ",
+                    i, bounds.behind(i, w), w, bounds.size(i));
+      names += text;
     }
   }
   if (outside > 0)
@@ -96,10 +98,9 @@ std::string unphysical_state(const World& world) {
   // that grows without bound (a diverging solve) reaches this long before a NaN.
   const double h = scene.dt;
   for (int i = 0; i < n; ++i) {
-    const BodyDef& b = scene.bodies[static_cast<std::size_t>(i)];
-    if (b.fixed) continue;
-    const double travel = s.v[static_cast<std::size_t>(i)].norm() * h;
-    const double size = b.bounding_radius * world.body_scale(i);
+    if (scene.bodies[static_cast<std::size_t>(i)].fixed) continue;
+    const double travel = bounds.travel(i);
+    const double size = bounds.size(i);
     if (travel > size) {
       char text[320];
       std::snprintf(text, sizeof text, "body %d moved %.3g in one step (speed %.3g, time.dt %.3g), more than its "

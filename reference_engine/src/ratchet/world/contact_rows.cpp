@@ -1,14 +1,13 @@
 // Phase 4, first half: from the step's contact list to the solver's rows (local
 // frames, Delassus blocks, expansion velocities, gap biases) and their warm start.
 // docs/method.md s. 4-5, 9.
-#include <omp.h>
-
 #include <algorithm>
 #include <cmath>
 #include <tuple>
 
 #include "ratchet/solver/local_coulomb.hpp"
 #include "ratchet/world/test_hooks.hpp"
+#include "ratchet/world/thread_share.hpp"
 #include "ratchet/world/world.hpp"
 
 namespace ratchet {
@@ -210,9 +209,7 @@ void World::find_kept_impulses() {
   {
 #pragma omp for schedule(static)
     for (int j = 0; j < n; ++j) contact_of[static_cast<std::size_t>(s.order[static_cast<std::size_t>(j)])] = j;
-    const int threads = omp_get_num_threads(), me = omp_get_thread_num();
-    const int begin = static_cast<int>(static_cast<long long>(n) * me / threads);
-    const int end = static_cast<int>(static_cast<long long>(n) * (me + 1) / threads);
+    const auto [begin, end] = thread_share(n);
     std::size_t pair_at = begin < std::min(end, pair_rows) ? first_of_body(s.row_a[static_cast<std::size_t>(begin)]) : 0;
     const int first_wall = std::max(begin, pair_rows);
     std::size_t body_at = first_wall < end ? first_of_body(s.row_a[static_cast<std::size_t>(first_wall)]) : 0;

@@ -8,6 +8,7 @@
 
 #include "ratchet/solver/nsgs.hpp"
 #include "ratchet/world/test_hooks.hpp"
+#include "ratchet/world/thread_share.hpp"
 
 namespace ratchet {
 
@@ -263,8 +264,7 @@ void World::keep_impulses() {
 #pragma omp parallel if (n > parallel_min_rows())
   {
     const int threads = omp_get_num_threads(), me = omp_get_thread_num();
-    const int begin = static_cast<int>(static_cast<long long>(n) * me / threads);
-    const int end = static_cast<int>(static_cast<long long>(n) * (me + 1) / threads);
+    const auto [begin, end] = thread_share(n);
 #pragma omp single
     share_begin.assign(static_cast<std::size_t>(threads) + 1, 0);
     int loaded = 0;
