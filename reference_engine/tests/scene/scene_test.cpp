@@ -389,6 +389,21 @@ TEST(Scene, SolverTangentialLawIsCreepOrSpringAndTheSpringNeedsTheWarmStart) {
                                  HasSubstr("while solver.warm_start is false")));
 }
 
+TEST(Scene, SolverStallFallbackIsPlainOrApgdAndApgdIsForTheRigidLaw) {
+  json j = minimal_scene();
+  const SceneDef plain = build_scene(j, "s.json");
+  EXPECT_EQ(plain.solver.stall_fallback, StallFallback::Plain);  // the default: the bits of every scene before it
+  EXPECT_EQ(plain.effective.at("solver").at("stall_fallback"), "plain");
+  j["solver"] = {{"stall_fallback", "apgd"}};
+  EXPECT_EQ(build_scene(j, "s.json").solver.stall_fallback, StallFallback::Apgd);
+  j["solver"]["stall_fallback"] = "cg";
+  EXPECT_THAT(error_of(j),
+              HasSubstr("scene.json: field 'solver.stall_fallback': expected \"plain\" or \"apgd\", got \"cg\""));
+  j["solver"] = {{"stall_fallback", "apgd"}, {"compliance", 0.01}};
+  EXPECT_THAT(error_of(j), AllOf(HasSubstr("scene.json: field 'solver.stall_fallback'"),
+                                 HasSubstr("while solver.compliance > 0")));
+}
+
 TEST(Scene, DegeneratePolyhedronIsRefusedWithItsField) {
   json j = minimal_scene();
   j["particles"]["bodies"] = json::array(

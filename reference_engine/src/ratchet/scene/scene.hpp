@@ -41,6 +41,13 @@ enum class Acceleration {
   Anderson,  // Anderson acceleration of the sweeps (solver/anderson.hpp)
 };
 
+// What a rigid solve does when its plain sweeps stall too (solver.stall_fallback,
+// docs/method.md s. 7).
+enum class StallFallback {
+  Plain,  // go on sweeping to max_iterations
+  Apgd,   // go on by the accelerated projected gradient (solver/apgd.hpp)
+};
+
 // The tangential part of the compliant law (solver.tangential_law, docs/method.md s. 5).
 enum class TangentialLaw {
   Creep,   // u_t + c lambda_t: a sticking contact slides at c lambda_t while loaded
@@ -60,6 +67,7 @@ struct SolverSettings {
   // What a compliant sticking contact does under a steady tangential load: creep at c lambda_t
   // (the law on u + c lambda) or hold it as a spring (on u + c (lambda - lambda_kept)).
   TangentialLaw tangential_law = TangentialLaw::Creep;
+  StallFallback stall_fallback = StallFallback::Plain;  // the rigid law only
   bool warm_start = true;
   double contact_margin = 0.05;  // contacts closer than this (length units) are detected
   double manifold_reuse = 0.0;   // a polyhedron pair's manifold is kept while it moves less (length; 0: rebuilt every step; contact/manifold_reuse.hpp)

@@ -22,7 +22,8 @@ void read_effects(const Reader& r, const json& j, Effects& e) {
 void read_solver(const Reader& r, const json& j, SolverSettings& s) {
   const std::string p = "solver";
   r.object(j, p, {"tolerance", "criterion", "max_iterations", "theta", "p_gap", "warm_start", "contact_margin", "threads",
-                  "acceleration", "anderson_depth", "compliance", "tangential_law", "manifold_reuse", "method"});
+                  "acceleration", "anderson_depth", "compliance", "tangential_law", "manifold_reuse", "method",
+                  "stall_fallback"});
   if (j.contains("method")) {
     const json& m = j.at("method");
     if (m == "nsgs") s.method = SolverMethod::Nsgs;
@@ -40,6 +41,13 @@ void read_solver(const Reader& r, const json& j, SolverSettings& s) {
   s.compliance = r.number(j, p, "compliance", s.compliance, 0.0, 1.0, false, false, "a number in [0, 1]");
   s.tangential_law = r.choice(j, p, "tangential_law", s.tangential_law,
                               {{"creep", TangentialLaw::Creep}, {"spring", TangentialLaw::Spring}});
+  s.stall_fallback = r.choice(j, p, "stall_fallback", s.stall_fallback,
+                              {{"plain", StallFallback::Plain}, {"apgd", StallFallback::Apgd}});
+  // The gradient method solves the rigid law's convex problems; a compliant solve has
+  // its own stall guard (relaxed sweeps).
+  if (s.stall_fallback == StallFallback::Apgd && s.compliance > 0.0)
+    r.fail(p + ".stall_fallback", "\"plain\" while solver.compliance > 0 (\"apgd\" is for the rigid law)",
+           &j.at("stall_fallback"));
   s.warm_start = r.boolean(j, p, "warm_start", s.warm_start);
   // The spring's load is the contact's kept impulse, which only the warm start finds.
   if (s.tangential_law == TangentialLaw::Spring && !s.warm_start)

@@ -5,6 +5,7 @@
 #include <cstring>
 
 #include "ratchet/solver/anderson.hpp"
+#include "ratchet/solver/apgd.hpp"
 #include "ratchet/solver/local_coulomb.hpp"
 
 namespace ratchet {
@@ -275,6 +276,26 @@ void write_extrapolated(std::vector<SolverRow>& cs, const AndersonMixer& mixer, 
   }
 }
 
+// The rest of a stalled rigid solve by the gradient method (solver.stall_fallback "apgd",
+// solver/apgd.hpp), within what is left of max_iterations. Its residual is Coulomb's
+// natural-map residual. A jam (no solution) shows as impulses that keep growing: the
+// normal sum grew by half since the switch without converging.
+SolveResult finish_by_gradient(std::vector<SolverRow>& cs, SolverBodies& B, const SolveSettings& set,
+                               SolverScratch& s, int sweeps, std::int64_t tangential, int restarts) {
+  SolveResult out;
+  const double normal_switch = normal_impulse_sum(cs);
+  const ApgdResult g = solve_apgd(cs, B, set, s, set.max_iterations - sweeps);
+  out.sweeps = sweeps + g.iterations;
+  out.apgd_iterations = g.iterations;
+  out.converged = g.converged;
+  out.residual = g.residual;
+  out.normal_growth = normal_impulses_grew(g.converged, normal_switch, normal_impulse_sum(cs));
+  out.tangential_solves = tangential;
+  out.restarts = restarts;
+  out.plain_fallback = true;
+  return out;
+}
+
 }  // namespace
 
 
@@ -313,6 +334,7 @@ SolveResult solve_nsgs(std::vector<SolverRow>& cs, SolverBodies& B, const SolveS
   double mark = HUGE_VAL;
   int mark_it = 0;
   double relax = 1.0;
+  int gradient_from = 0;  // the sweep after which solve_apgd took over (0: it did not)
   for (it = 1; it <= set.max_iterations && !cs.empty(); ++it) {
     if (set.by_velocity) { s.v_sweep = B.v; s.w_sweep = B.w; }
     double d2 = 0.0, l2 = 0.0;
@@ -349,6 +371,9 @@ SolveResult solve_nsgs(std::vector<SolverRow>& cs, SolverBodies& B, const SolveS
     } else if (it - mark_it >= set.stall_sweeps && set.compliance > 0.0 && relax > kMinRelaxation) {
       relax *= 0.5;  // the plain sweeps cycle (friction): under-relaxed sweeps damp the cycle
       mark_it = it;
+    } else if (it - mark_it >= set.stall_sweeps && set.rigid && set.apgd_fallback) {
+      gradient_from = it;  // the rigid plain sweeps stall too: the gradient method goes on from here
+      break;
     }
     if (accelerate) {
       mixer.record_velocities(B.v, B.w);
@@ -356,6 +381,7 @@ SolveResult solve_nsgs(std::vector<SolverRow>& cs, SolverBodies& B, const SolveS
     }
   }
   out.relaxation = relax;
+  if (gradient_from > 0) return finish_by_gradient(cs, B, set, s, gradient_from, tangential, mixer.restarts());
   out.sweeps = cs.empty() ? 0 : std::min(it, set.max_iterations);
   out.converged = cs.empty() || residual < tol;
   const double normal_end = normal_impulse_sum(cs);

@@ -11,6 +11,7 @@
 #include "ratchet/core/contact_side.hpp"
 #include "ratchet/core/types.hpp"
 #include "ratchet/solver/anderson_buffers.hpp"
+#include "ratchet/solver/apgd_buffers.hpp"
 #include "ratchet/solver/row_colouring.hpp"
 
 namespace ratchet {
@@ -139,6 +140,7 @@ struct SolveSettings {
   int parallel_min_rows = kParallelMinRows;
   const RowColouring* colouring = nullptr;  // the rows' colouring (parallel sweep), or null: one thread in row order
   int stall_sweeps = 100;    // the stall guard's patience: sweeps without halving the residual (solve_nsgs)
+  bool apgd_fallback = false;  // solver.stall_fallback "apgd": a stalled rigid solve goes on by solve_apgd
 };
 
 struct SolveResult {
@@ -151,6 +153,7 @@ struct SolveResult {
   int restarts = 0;                    // Anderson history restarts
   bool plain_fallback = false;         // the acceleration stalled and plain sweeps finished
   double relaxation = 1.0;             // the last sweeps' relaxation: below 1 when plain sweeps stalled too
+  int apgd_iterations = 0;             // gradient steps of the stall fallback (part of sweeps)
 };
 
 // What a solve keeps between sweeps: the velocities before the contact impulses (set
@@ -160,12 +163,16 @@ struct SolverScratch {
   std::vector<Vec3> v_free, w_free, v_sweep, w_sweep;
   std::vector<double> group_sums;  // per group of the colouring: |d lambda|^2, |lambda|^2 of a sweep
   AndersonBuffers anderson;        // the acceleration's arrays (solver/anderson_buffers.hpp)
+  ApgdBuffers apgd;                // the rigid stall fallback's arrays (solver/apgd_buffers.hpp)
 };
 
 // sum_i m_i |v_i - v0_i|^2 + (w_i - w0_i)^T I_i (w_i - w0_i): twice the kinetic energy of
 // the velocity difference, I = R diag(I_p s^2) R^T.
 double velocity_change(const SolverBodies& bodies, const std::vector<Vec3>& v0, const std::vector<Vec3>& w0,
                        bool rotation);
+// The same norm of (v - v0, w - w0) for velocities other than the bodies' own.
+double velocity_change(const SolverBodies& bodies, const std::vector<Vec3>& v, const std::vector<Vec3>& w,
+                       const std::vector<Vec3>& v0, const std::vector<Vec3>& w0, bool rotation);
 
 // The jam detector (World::keep_impulses, World::yield_to_jam): an unconverged solve
 // whose normal impulses still grew by half over the second half of its sweeps signals a

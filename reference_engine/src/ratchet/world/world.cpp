@@ -156,6 +156,7 @@ void World::solve() {
   if (scene_.solver.acceleration == Acceleration::Anderson) settings.anderson_depth = scene_.solver.anderson_depth;
   settings.compliance = scene_.solver.compliance;
   settings.rigid = scene_.solver.compliance == 0.0;
+  settings.apgd_fallback = scene_.solver.stall_fallback == StallFallback::Apgd;
   settings.colouring = &scratch_.colouring;
   settings.parallel_min_rows = parallel_min_rows();
   scratch_.solver.v_free = state_.v;  // stored once: the velocity criterion and the jam's re-solve read it
