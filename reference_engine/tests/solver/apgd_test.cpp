@@ -10,15 +10,7 @@
 namespace ratchet {
 namespace {
 
-SolveSettings settings(int cap, double tol, bool friction) {
-  SolveSettings s;
-  s.max_iterations = cap;
-  s.tolerance = tol;
-  s.friction = friction;
-  s.rotation = false;
-  s.rigid = true;
-  return s;
-}
+SolveSettings settings(int cap, double tol, bool friction) { return test::column_settings(cap, tol, friction, true); }
 
 TEST(Apgd, ColumnCarriesTheWeightOfEverythingAbove) {
   test::Column c(30, 0.04, 0.0);

@@ -52,4 +52,17 @@ struct Column {
   SolverBodies bodies() { return SolverBodies{v, w, inv_mass, inv_inertia, R, mass, inertia, scale}; }
 };
 
+// What the column's solves are asked: no rotation (the column has none), the cap, the
+// tolerance, friction or not, and whether the law is the rigid one (its jam tests and
+// stall fallback).
+inline SolveSettings column_settings(int cap, double tol, bool friction, bool rigid = false) {
+  SolveSettings s;
+  s.max_iterations = cap;
+  s.tolerance = tol;
+  s.friction = friction;
+  s.rotation = false;
+  s.rigid = rigid;
+  return s;
+}
+
 }  // namespace ratchet::test

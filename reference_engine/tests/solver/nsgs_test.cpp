@@ -10,14 +10,7 @@
 namespace ratchet {
 namespace {
 
-SolveSettings settings(int cap, double tol, bool friction) {
-  SolveSettings s;
-  s.max_iterations = cap;
-  s.tolerance = tol;
-  s.friction = friction;
-  s.rotation = false;
-  return s;
-}
+SolveSettings settings(int cap, double tol, bool friction) { return test::column_settings(cap, tol, friction); }
 
 TEST(Nsgs, ColumnCarriesTheWeightOfEverythingAbove) {
   test::Column c(10, 0.04, 0.5);
