@@ -19,7 +19,8 @@ TEST(Apgd, ColumnCarriesTheWeightOfEverythingAbove) {
   ASSERT_TRUE(r.converged);
   EXPECT_LT(r.residual, 1e-10);
   for (int k = 0; k < c.n; ++k) {
-    // The natural-map residual bounds the impulses' error by about cond(W) times it.
+    // The natural-map residual bounds the impulses' error by about cond(W) ~ n^2 = 900
+    // times it: 1e-10 x 900 on the scale n g h, with room.
     EXPECT_NEAR(c.rows[static_cast<std::size_t>(k)].lambda[0], (c.n - k) * c.gh, 1e-6 * c.n * c.gh) << k;
     EXPECT_NEAR(c.v[static_cast<std::size_t>(k)].z(), 0.0, 1e-6) << k;
   }
@@ -53,8 +54,11 @@ TEST(Apgd, ASlidingColumnAgreesWithGaussSeidel) {
   const ApgdResult ra = solve_apgd(a.rows, ba, settings(1000000, 1e-10, true), a.scratch, 1000000);
   ASSERT_TRUE(ra.converged);
   EXPECT_LT(coulomb_residual(a.rows, ba, false), 1e-10);
-  // The floor contact slides: its friction is on the cone, against the motion.
+  // The floor contact slides: its friction is on the cone, against the motion (to 1e-8,
+  // a hundred times the residual 1e-10 on impulses of order n g h = 0.3).
   EXPECT_NEAR(a.rows[0].lambda[1], -mu * a.rows[0].lambda[0], 1e-8);
+  // 1e-6: the two stopping rules (1e-12 per sweep, 1e-10 natural map) leave each answer
+  // within cond(W) ~ n^2 = 64 times its residual of the exact one.
   for (std::size_t k = 0; k < a.rows.size(); ++k)
     for (int j = 0; j < 3; ++j) EXPECT_NEAR(a.rows[k].lambda[j], g.rows[k].lambda[j], 1e-6) << k << " " << j;
 }
@@ -67,6 +71,8 @@ TEST(Apgd, CoulombResidualIsZeroAtTheAnswerOnly) {
   // norm of P_K(-rho u), about g h for the floor contact alone.
   EXPECT_GT(cold, 0.5 * c.gh);
   ASSERT_TRUE(solve_nsgs(c.rows, b, settings(100000, 1e-13, true), c.scratch).converged);
+  // 1e-9: the sweeps' change criterion 1e-13 leaves a residual a few thousand times it
+  // at most on a 5-deep column (its slow mode); a wrong answer is of order 1.
   EXPECT_LT(coulomb_residual(c.rows, b, false), 1e-9);
 }
 
@@ -83,9 +89,10 @@ TEST(Apgd, AStalledRigidSolveGoesOnByTheGradient) {
   EXPECT_GT(r.apgd_iterations, 0);
   EXPECT_GE(r.sweeps - r.apgd_iterations, 10);  // the sweeps before the switch: two patiences at least
   EXPECT_LT(r.sweeps, 100000);
+  // 1e-5 of the largest impulse: the residual 1e-9 times cond(W) ~ n^2 = 3600, with room.
   for (int k = 0; k < c.n; ++k)
     EXPECT_NEAR(c.rows[static_cast<std::size_t>(k)].lambda[0], (c.n - k) * c.gh, 1e-5 * c.n * c.gh) << k;
-  // Without the fallback the same solve does not switch (and the compliant law never does).
+  // Without the fallback the same solve does not switch.
   s.apgd_fallback = false;
   SolverBodies bo = off.bodies();
   EXPECT_EQ(solve_nsgs(off.rows, bo, s, off.scratch).apgd_iterations, 0);

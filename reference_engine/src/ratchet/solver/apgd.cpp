@@ -86,16 +86,30 @@ double convex_residual(const std::vector<SolverRow>& rows, const std::vector<Vec
 
 }  // namespace
 
-double coulomb_residual(const std::vector<SolverRow>& rows, SolverBodies& bodies, bool rotation) {
+namespace {
+
+// coulomb_residual, and with `shifts` de Saxcé's shift mu |u_t| of each row at the same
+// velocities (the next convex problem's), from the same pass over the rows.
+double residual_and_shifts(const std::vector<SolverRow>& rows, SolverBodies& bodies, bool rotation,
+                           std::vector<double>* shifts) {
   const BodyArrays A = arrays_of(bodies);
   double f2 = 0.0, l2 = 0.0;
-  for (const SolverRow& r : rows) {
+  for (std::size_t k = 0; k < rows.size(); ++k) {
+    const SolverRow& r = rows[k];
     Vec3 u = local_velocity(r, A, rotation);
-    u[0] += r.bias + r.mu * std::sqrt(u[1] * u[1] + u[2] * u[2]);
+    const double shift = r.mu * std::sqrt(u[1] * u[1] + u[2] * u[2]);
+    if (shifts != nullptr) (*shifts)[k] = shift;
+    u[0] += r.bias + shift;
     f2 += (r.lambda - nearest_in_cone(r.lambda - rho(r) * u, r.mu)).squaredNorm();
     l2 += r.lambda.squaredNorm();
   }
   return l2 > 0.0 ? std::sqrt(f2 / l2) : std::sqrt(f2);
+}
+
+}  // namespace
+
+double coulomb_residual(const std::vector<SolverRow>& rows, SolverBodies& bodies, bool rotation) {
+  return residual_and_shifts(rows, bodies, rotation, nullptr);
 }
 
 ApgdResult solve_apgd(std::vector<SolverRow>& rows, SolverBodies& B, const SolveSettings& set, SolverScratch& scratch,
@@ -115,20 +129,14 @@ ApgdResult solve_apgd(std::vector<SolverRow>& rows, SolverBodies& B, const Solve
     buf.wn = scratch.w_free;
     P.gradient(buf.vn, buf.wn, buf.q);  // s is zero here: W 0 + q
   }
-  std::vector<Vec3> x(n);  // the current iterate (the rows' impulses, whose velocities the bodies hold)
+  std::vector<Vec3>& x = buf.x;  // the current iterate (the rows' impulses, whose velocities the bodies hold)
+  x.resize(n);
   for (std::size_t k = 0; k < n; ++k) x[k] = rows[k].lambda;
   double L = 1.0;  // Lipschitz estimate of the scaled gradient (diag(rho) W has 1 on its normal diagonal)
   int it = 0;
-  double residual = coulomb_residual(rows, B, set.rotation);
+  // The residual at the current iterate, and de Saxcé's shifts there for the next problem.
+  double residual = residual_and_shifts(rows, B, set.rotation, &buf.s);
   while (it < max_iterations && residual >= set.tolerance) {
-    // De Saxcé's shift at the current iterate: mu |u_t|.
-    {
-      const BodyArrays A = arrays_of(B);
-      for (std::size_t k = 0; k < n; ++k) {
-        const Vec3 u = local_velocity(rows[k], A, set.rotation);
-        buf.s[k] = rows[k].mu * std::sqrt(u[1] * u[1] + u[2] * u[2]);
-      }
-    }
     const double inner_tol = std::max(kInnerFraction * set.tolerance, kInnerFraction * residual);
     // Accelerated projected gradient (Mazhar et al. 2015, Alg. 1, in the metric diag(rho)).
     buf.y = x;
@@ -187,9 +195,8 @@ ApgdResult solve_apgd(std::vector<SolverRow>& rows, SolverBodies& B, const Solve
       }
     }
     for (std::size_t k = 0; k < n; ++k) rows[k].lambda = x[k];
-    residual = coulomb_residual(rows, B, set.rotation);
+    residual = residual_and_shifts(rows, B, set.rotation, &buf.s);
   }
-  for (std::size_t k = 0; k < n; ++k) rows[k].lambda = x[k];
   out.iterations = it;
   out.residual = residual;
   out.converged = residual < set.tolerance;
