@@ -9,7 +9,6 @@
 namespace ratchet {
 
 struct ApgdBuffers {
-  std::vector<Vec3> q;              // per row: the local velocity at the free velocities, bias on the normal
   std::vector<double> s;            // per row: de Saxcé's shift mu |u_t| of the current convex problem
   std::vector<Vec3> x, y, prev, next;  // per row: the iterate, the extrapolated point, the last and the next iterate
   std::vector<Vec3> g;              // per row: the gradient at y
