@@ -42,6 +42,20 @@ def shown(path: Path) -> str:
     return str(path.relative_to(REPO_ROOT)) if REPO_ROOT in path.parents else str(path)
 
 
+def exit_outcome(code: int, stage: str, stopping: bool) -> str:
+    """What a finished engine process leaves: "store", "stopped" or "failed".
+
+    Judged by the folder first: run.json says "completed" only once every output is
+    written, so a run that completed as its SIGTERM came (the sweep then exits non-zero
+    while it winds down) is stored, not reported as stopped. A stopped run is judged by
+    the folder, not the exit status: mpirun reports a rank stopped by SIGTERM as 1."""
+    if stage == "completed" and (code == 0 or stopping):
+        return "store"
+    if stopping and stage != "failed":
+        return "stopped"
+    return "failed"
+
+
 @dataclass
 class Active:
     state: RunState
@@ -250,7 +264,8 @@ class Runner:
         os.close(item.lock_fd)
         progress = folder.progress()
         label = state.run.label
-        if code == 0 and progress.stage == "completed":
+        what = exit_outcome(code, progress.stage, item.stopping)
+        if what == "store":
             try:
                 where = self._store(state, ledger)
             except (OSError, ValueError, RuntimeError) as error:
@@ -261,9 +276,7 @@ class Runner:
             self.say(f"done {label} in {hours(wall)} (this session), {hours(total_cpu)} CPU in all; "
                      f"stored in {shown(where)}")
             outcome.stored.append(label)
-        elif item.stopping and progress.stage != "failed":
-            # Judged by the folder, not the exit status: mpirun reports a rank stopped by
-            # SIGTERM as 1.
+        elif what == "stopped":
             self.say(f"stopped {label}: {progress.text()}; the next invocation resumes it")
             outcome.stopped.append(label)
         else:
