@@ -2,7 +2,8 @@
 quick bed cut to 12 polyhedra, a loose settle threshold and h = 0.005, 2 points x 2
 seeds (about a second of CPU for all four runs). Checked: runs stored with their
 provenance; a second invocation runs nothing; a budget that ends mid-run leaves a run
-that the next invocation completes with the bytes of an uninterrupted run; stale results
+that the next invocation completes with the bytes of an uninterrupted run, and a run that
+completed as its SIGTERM came is stored, not stopped; stale results
 are rerun and results of an engine that passed the golden check are reused (also after a
 recheck of its binary on newer golden data); bad plans
 are refused naming the file and the field; the engine id ignores the engine's tests and
@@ -194,9 +195,10 @@ def test_budget_ending_mid_run_leaves_a_run_the_next_invocation_completes_with_t
     assert "start theta0/seed3 (resumes: interrupted" in second.stdout
     stored = tmp_path / "r" / "theta0" / "seed3"
     # Every stored result file, bit for bit (provenance.json and run.json hold times).
-    names = sorted(f.name for f in reference.iterdir() if f.name not in ("provenance.json", "run.json"))
-    assert "cycles.csv" in names and sorted(f.name for f in stored.iterdir()
-                                            if f.name not in ("provenance.json", "run.json")) == names
+    def results(folder):
+        return sorted(f.name for f in folder.iterdir() if f.name not in ("provenance.json", "run.json"))
+    names = results(reference)
+    assert "cycles.csv" in names and results(stored) == names
     for name in names:
         assert (stored / name).read_bytes() == (reference / name).read_bytes(), name
     assert provenance(tmp_path / "r", "theta0/seed3")["segments"] == 2
