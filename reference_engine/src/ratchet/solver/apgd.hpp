@@ -24,8 +24,7 @@ struct ApgdResult {
 // From the rows' impulses (applied to the bodies) to a solution of the rigid law whose
 // natural-map residual is below settings.tolerance, in at most max_iterations steps.
 // The rows' impulses and the bodies' velocities hold the last iterate on return.
-// Its passes run on all threads above settings.parallel_min_rows rows (the bodies'
-// changes by the rows' colours, settings.colouring): the same bits for any thread count.
+// One thread: the result is the same for any thread count.
 ApgdResult solve_apgd(std::vector<SolverRow>& rows, SolverBodies& bodies, const SolveSettings& settings,
                       SolverScratch& scratch, int max_iterations);
 

@@ -12,8 +12,7 @@ struct ApgdBuffers {
   std::vector<double> s;            // per row: de Saxcé's shift mu |u_t| of the current convex problem
   std::vector<Vec3> x, y, prev, next;  // per row: the iterate, the extrapolated point, the last and the next iterate
   std::vector<Vec3> g;              // per row: the gradient at y
-  std::vector<Vec3> vy, wy, vn, wn;  // per body: the velocities of y and of the next iterate
-  std::vector<double> partial;      // the fixed-order sums' blocks (solver/fixed_order_passes.hpp)
+  std::vector<Vec3> vy, wy, vp, wp, vn, wn;  // per body: the velocities of y, of the last and of the next iterate
 };
 
 }  // namespace ratchet
