@@ -203,6 +203,35 @@ def test_bad_engine_option_stops_before_any_work(tmp_path, engine, expected):
     assert not (tmp_path / "out").exists()
 
 
+@pytest.mark.parametrize("held", ["runs/soft-s2.lock", "packs/s2.lock"])
+def test_a_second_instance_skips_what_another_process_holds(tmp_path, held):
+    """A run (or a bed being poured) whose lock another process holds, as an instance started
+    earlier on the same folder does while its engine runs, is not started: the rest of the
+    plan runs, the skip is named, no table is written and the exit status is 3; once the
+    lock is free the same command finishes the plan. A lock that could not be taken would
+    leave the run started twice, and this test red."""
+    plan = write_plan(tmp_path)
+    out = tmp_path / "out"
+    for sub in ("runs", "packs"):
+        (out / sub).mkdir(parents=True)
+    fd = load_tool().lock(out / held)
+    assert fd is not None
+    try:
+        r = call(plan, "--out", out, "--jobs", "2")
+    finally:
+        os.close(fd)
+    assert r.returncode == 3, r.stderr
+    assert f"lock {out / held}" in r.stderr
+    skipped = ["soft-s2"] if held.startswith("runs") else ["rigid-s2", "soft-s2"]
+    for name in ("rigid-s1", "soft-s1", "rigid-s2", "soft-s2"):
+        run = out / "runs" / name / "run.json"
+        assert run.is_file() != (name in skipped), name
+    assert not (out / "comparison.json").exists()
+    r = call(plan, "--out", out)
+    assert r.returncode == 0, r.stderr
+    assert json.loads((out / "comparison.json").read_text())["complete"] is True
+
+
 def test_a_stopped_plan_goes_on_from_the_checkpoints(done, tmp_path):
     """SIGTERM to the tool stops its runs at a checkpoint (exit 3); the same command then
     resumes them, and each run's timeseries is byte for byte that of the plan never
