@@ -41,13 +41,16 @@ DEFAULT_PLAN = REPO_ROOT / "validation" / "campaigns" / "paper.json"
 DEFAULT_RESULTS = REPO_ROOT / "validation" / "results" / "paper"
 # The compliance ladders on the paper's bed (scripts/compare-settings comparisons, kept in
 # validation/results/accuracy/; docs/accuracy-cost.md, "The compliance at the paper's
-# depth" and "The spring law at the paper's depth"): (cone angle, file). Settings 'e<eps>'
-# are the creep law's, 's<eps>' the spring law's. A missing file is left out.
+# depth", "The spring law at the paper's depth" and "The rigid law at the paper's depth"):
+# (cone angle, file). Settings 'e<eps>' are the creep law's, 's<eps>' the spring law's,
+# 'rigid' the paper's law (eps = 0). A missing file is left out.
 _ACCURACY = REPO_ROOT / "validation" / "results" / "accuracy"
 LAW_LADDERS = ((0.0, _ACCURACY / "law_ladder_paper.json"), (6.0, _ACCURACY / "law_ladder_paper6.json"),
-               (0.0, _ACCURACY / "spring_ladder_paper.json"), (6.0, _ACCURACY / "spring_ladder_paper6.json"))
+               (0.0, _ACCURACY / "spring_ladder_paper.json"), (6.0, _ACCURACY / "spring_ladder_paper6.json"),
+               (0.0, _ACCURACY / "law_paper.json"))
+_RIGID = "rigid"  # the setting that names the paper's law
 _LADDER_LAWS = {"s": "spring", "e": "creep"}  # setting prefix -> law, in the order of the table's rows
-_LAW_RANK = {law: i for i, law in enumerate(_LADDER_LAWS.values())}
+_LAW_RANK = {law: i for i, law in enumerate((_RIGID, *_LADDER_LAWS.values()))}
 TITLE = "The paper, figure by figure"
 #: The kind of study of a plan part, by the scene path it sweeps.
 KIND_OF_SWEEP = {ANGLE: "angle", ALPHA_C: "ratio"}
@@ -500,7 +503,7 @@ def _law(plan: Plan) -> str:
 def _ladders(ladders) -> tuple[list, dict]:
     """Per tangential law and compliance of the ladders: P_max (mean ± SE, runs) at each
     angle, and the ratio of the 6° cone's to the cylinder's where both were run (SE by
-    propagation of the two SEs). Rows by law (spring, then creep), then by decreasing
+    propagation of the two SEs). Rows by law (rigid, spring, then creep), then by decreasing
     compliance; the state is per ladder file, named by its law and angle."""
     table = {}
     complete = {}
@@ -513,7 +516,9 @@ def _ladders(ladders) -> tuple[list, dict]:
             laws = set()
             for setting, e in data["observables"]["P_max"].items():
                 key = _ladder_compliance(setting)
-                if key is None or e.get("mean") is None:
+                # A rung an earlier file gave (the rigid comparison's s0.01 runs are the spring
+                # ladder's) is that file's, with its state.
+                if key is None or e.get("mean") is None or angle in table.get(key, {}):
                     continue
                 laws.add(key[0])
                 table.setdefault(key, {})[angle] = (float(e["mean"]), e.get("se"), int(e["n"]))
@@ -542,7 +547,10 @@ def _ladders(ladders) -> tuple[list, dict]:
 
 def _ladder_compliance(setting: str):
     """The law and compliance a ladder's setting names: 'e0.01' -> ('creep', 0.01),
-    's0.01' -> ('spring', 0.01); anything else (e.g. 's0.01-ramp20') -> None."""
+    's0.01' -> ('spring', 0.01), 'rigid' -> ('rigid', 0.0); anything else (e.g.
+    's0.01-ramp20') -> None."""
+    if setting == _RIGID:
+        return _RIGID, 0.0
     law = _LADDER_LAWS.get(setting[:1])
     if law is None:
         return None

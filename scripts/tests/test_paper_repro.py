@@ -343,17 +343,22 @@ def test_the_contact_law_and_the_compliance_ladders_are_shown(tmp_path):
     # The spring law's ladder: its settings are 's<eps>'; one with a suffix is not a rung.
     spring = ladder("s0.json", False, {"s0.003": (130.0, 8.0, 3), "s0.01": (150.0, 4.0, 3),
                                       "s0.01-ramp20": (1.0, 1.0, 3)})
+    # The rigid law's comparison (the paper's law, setting 'rigid') beside its own s0.01 runs.
+    rigid = ladder("r0.json", True, {"rigid": (170.0, 5.0, 3), "s0.01": (150.0, 4.0, 3)})
     data = paper_repro.build(results=tmp_path / "none", out=tmp_path / "out",
-                             ladders=[(0.0, zero), (6.0, six), (8.0, tmp_path / "absent.json"), (0.0, spring)])
+                             ladders=[(0.0, zero), (6.0, six), (8.0, tmp_path / "absent.json"), (0.0, spring),
+                                      (0.0, rigid)])
     # The plan's scene is the paper tier's compliant law, not the paper's rigid one.
     assert data["law"].startswith("compliant, ε = 0.01 (")
     assert "the paper's law is rigid" in data["law"]
     assert "tangential law spring" in data["law"]
     # The absent file is left out; the state is per law and angle.
-    assert data["ladder_state"] == "spring 0° partial, creep 0° partial, creep 6° complete"
+    assert data["ladder_state"] == "rigid 0° complete, spring 0° partial, creep 0° partial, creep 6° complete"
     rows = {(r["law"], r["eps"]): r for r in data["ladders"]}
-    # The spring law first (the tier's), then the creep law; each by decreasing compliance.
-    assert list(rows) == [("spring", "0.01"), ("spring", "0.003"), ("creep", "0.1"), ("creep", "0.01")]
+    # The paper's rigid law first, then the spring law (the tier's), then the creep law;
+    # each by decreasing compliance.
+    assert list(rows) == [("rigid", "0"), ("spring", "0.01"), ("spring", "0.003"), ("creep", "0.1"),
+                          ("creep", "0.01")]
     # 0.40 ± 0.40 hypot(0.1, 0.05) = 0.045; no SE where a point has one bed.
     assert rows[("creep", "0.01")]["ratio"] == "0.40 ± 0.04"
     assert rows[("creep", "0.1")]["ratio"] == "0.56"
@@ -364,6 +369,7 @@ def test_the_contact_law_and_the_compliance_ladders_are_shown(tmp_path):
     assert "- Contact law: compliant, ε = 0.01" in text
     assert "| creep | 0.01 | 100.0 ± 10.0 (2) | 40.0 ± 2.0 (3) | 0.40 ± 0.04 |" in text
     assert "| spring | 0.01 | 150.0 ± 4.0 (3) | — | — |" in text
+    assert "| rigid | 0 | 170.0 ± 5.0 (3) | — | — |" in text
     # Without ladders the table is left out.
     assert "| law | ε | 0° | 6° |" not in markdown(
         paper_repro.build(results=tmp_path / "none", out=tmp_path / "out2", ladders=[]))
