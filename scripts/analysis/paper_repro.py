@@ -495,8 +495,8 @@ def _law(plan: Plan) -> str:
                     "ε = 0.003; with the cycle twice "
                     "as long the first two cycles' peaks stay within 3 % but the pressure held after a cooling "
                     "doubles; against the paper's rigid law on 3 beds no observable's shift is resolved (Welch "
-                    "p ≥ 0.08; V/V0 the same bed by bed within 0.0013, while the rigid wall pressure scatters six times "
-                    "more between beds) "
+                    "p ≥ 0.08; V/V0 the same bed by bed within 0.0013, while the rigid wall pressure scatters "
+                    "six times more between beds) "
                     "(the ladders below the table; docs/accuracy-cost.md, The spring law at the paper's depth, "
                     "The rigid law at the paper's depth)")
     return (f"compliant, ε = {shown} (solver.compliance), tangential law {tangential}{creep}; the paper's law "
