@@ -4,7 +4,6 @@ between them (docs/campaign.md, "The work folder")."""
 
 from __future__ import annotations
 
-import fcntl
 import json
 import os
 import re
@@ -13,6 +12,7 @@ import struct
 from dataclasses import dataclass
 from pathlib import Path
 
+from common.flock import try_lock
 from common.fsutil import write_atomic
 
 from .engine import Engine, same_engine
@@ -126,13 +126,7 @@ class RunFolder:
         """An exclusive lock, handed to the engine process so that it lasts as long as the
         run does (even if the campaign dies); None when another process holds it."""
         self.root.mkdir(parents=True, exist_ok=True)
-        fd = os.open(self.lock_file, os.O_RDWR | os.O_CREAT, 0o644)
-        try:
-            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
-        except OSError:
-            os.close(fd)
-            return None
-        return fd
+        return try_lock(self.lock_file)
 
     def busy(self) -> bool:
         if not self.lock_file.exists():
