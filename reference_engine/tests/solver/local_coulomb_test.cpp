@@ -103,16 +103,18 @@ TEST(LocalCoulomb, RandomProblemsSatisfySignoriniAndCoulomb) {
 // Two slides solved together (the sweep's pairs) give each the bits it has alone, from
 // hints near and far (Newton converging in few or many steps, or failing), so that one
 // lane stops while the other goes on.
-TEST(LocalCoulomb, SlidesSolvedInPairsHaveTheBitsOfEachAlone) {
+TEST(LocalCoulomb, SlidesSolvedTogetherHaveTheBitsOfEachAlone) {
   Rng rng(29);
-  int pairs = 0, found_both = 0, one_failed = 0;
+  int batches = 0, found_all = 0, some_failed = 0;
+  constexpr int L = detail::kSlideLanes;
   for (int k = 0; k < 4000; ++k) {
-    Mat3 W[2];
-    Vec3 w[2], lambda_alone[2];
-    double mu[2];
-    Eigen::Vector2d hint[2];
-    bool alone[2];
-    for (int j = 0; j < 2; ++j) {
+    const int n = 2 + k % (L - 1);  // 2, 3 and 4 lanes
+    Mat3 W[L];
+    Vec3 w[L], lambda_alone[L];
+    double mu[L];
+    Eigen::Vector2d hint[L];
+    bool alone[L];
+    for (int j = 0; j < n; ++j) {
       W[j] = random_delassus(rng);
       w[j] = Vec3(uniform(rng, -2, -0.1), uniform(rng, -3, 3), uniform(rng, -3, 3));
       mu[j] = uniform(rng, 0.05, 1.0);
@@ -123,26 +125,35 @@ TEST(LocalCoulomb, SlidesSolvedInPairsHaveTheBitsOfEachAlone) {
       hint[j] = h.norm() > 0.0 ? Eigen::Vector2d(h.normalized()) : Eigen::Vector2d(1.0, 0.0);
       alone[j] = detail::slide_from_hint(W[j], w[j], mu[j], hint[j], lambda_alone[j]);
     }
-    const Mat3* Wp[2] = {&W[0], &W[1]};
-    const Vec3* wp[2] = {&w[0], &w[1]};
-    const Eigen::Vector2d* hp[2] = {&hint[0], &hint[1]};
-    Vec3 lambda_pair[2] = {Vec3::Constant(-7.0), Vec3::Constant(-7.0)};
-    Vec3* out[2] = {&lambda_pair[0], &lambda_pair[1]};
-    bool found[2];
-    detail::slide_from_hints(Wp, wp, mu, hp, out, found);
-    for (int j = 0; j < 2; ++j) {
-      ASSERT_EQ(found[j], alone[j]) << k << " lane " << j;
+    const Mat3* Wp[L];
+    const Vec3* wp[L];
+    const Eigen::Vector2d* hp[L];
+    Vec3 lambda_batch[L];
+    Vec3* out[L];
+    for (int j = 0; j < n; ++j) {
+      Wp[j] = &W[j];
+      wp[j] = &w[j];
+      hp[j] = &hint[j];
+      lambda_batch[j] = Vec3::Constant(-7.0);
+      out[j] = &lambda_batch[j];
+    }
+    bool found[L];
+    detail::slide_from_hints(n, Wp, wp, mu, hp, out, found);
+    int n_found = 0;
+    for (int j = 0; j < n; ++j) {
+      ASSERT_EQ(found[j], alone[j]) << k << " lane " << j << " of " << n;
       if (found[j]) {
-        ASSERT_EQ(std::memcmp(lambda_pair[j].data(), lambda_alone[j].data(), sizeof(Vec3)), 0) << k;
+        ASSERT_EQ(std::memcmp(lambda_batch[j].data(), lambda_alone[j].data(), sizeof(Vec3)), 0) << k;
+        ++n_found;
       }
     }
-    ++pairs;
-    found_both += found[0] && found[1];
-    one_failed += found[0] != found[1];
+    ++batches;
+    found_all += n_found == n;
+    some_failed += n_found > 0 && n_found < n;
   }
-  EXPECT_EQ(pairs, 4000);
-  EXPECT_GT(found_both, 1000);  // the lanes' iterations overlap in most pairs
-  EXPECT_GT(one_failed, 50);    // and some pairs have one lane fail (the cold path's case)
+  EXPECT_EQ(batches, 4000);
+  EXPECT_GT(found_all, 1000);    // the lanes' iterations overlap in most batches
+  EXPECT_GT(some_failed, 50);    // and some batches have a lane fail (the cold path's case)
 }
 
 // The warm start's clip is project_onto_cone's clip but for its rounding: the two agree
@@ -172,6 +183,76 @@ TEST(LocalCoulomb, TheConeLeavesPositiveZeroAsItIs) {
       EXPECT_FALSE(std::signbit(p[j])) << mu << " entry " << j;
     }
   }
+}
+
+
+// The cold slide taken apart as a coloured sweep takes it (nsgs.cpp, SlideBatch): the fixed
+// point when the row is put off, Newton from the stick direction among other rows' lanes,
+// and the scan for a lane that ends at no admissible slide; each with slide_cold's bits.
+TEST(LocalCoulomb, AColdSlideInStagesHasTheBitsOfSlideCold) {
+  Rng rng(31);
+  constexpr int L = detail::kSlideLanes;
+  int slides = 0, by_fixed_point = 0, by_newton = 0, by_scan = 0;
+  for (int k = 0; k < 20000 && slides < 4000;) {
+    Mat3 W[L];
+    Vec3 w[L], stick[L], whole[L];
+    double mu[L], lt[L];
+    int n = 0;
+    while (n < L && k < 20000) {
+      ++k;
+      // Every fourth an isotropic block (a sphere on a plane: the fixed point's case), the
+      // others coupled, with friction up to 3 so that Newton from the stick direction
+      // sometimes ends at no admissible slide (the scan's case).
+      W[n] = k % 4 == 0 ? Mat3(uniform(rng, 0.5, 2.0) * Mat3::Identity()) : random_delassus(rng);
+      w[n] = Vec3(uniform(rng, -2, -0.1), uniform(rng, -3, 3), uniform(rng, -3, 3));
+      mu[n] = uniform(rng, 0.05, 3.0);
+      LocalSolution sol;
+      if (solve_local_before_slide(W[n], W[n].inverse(), w[n], mu[n], 0.0, sol, stick[n], lt[n])) continue;
+      whole[n] = detail::slide_cold(W[n], w[n], mu[n], stick[n], lt[n]).lambda;
+      ++n;
+    }
+    Eigen::Vector2d d0[L];
+    Vec3 staged[L];
+    const Mat3* Wp[L];
+    const Vec3* wp[L];
+    const Eigen::Vector2d* hp[L];
+    Vec3* out[L];
+    double mu_lane[L];
+    int lane_of[L], lanes = 0;
+    for (int j = 0; j < n; ++j) {
+      if (detail::slide_fixed_point(W[j], w[j], mu[j], stick[j], lt[j], d0[j], staged[j])) {
+        ++by_fixed_point;
+        continue;
+      }
+      Wp[lanes] = &W[j];
+      wp[lanes] = &w[j];
+      hp[lanes] = &d0[j];
+      out[lanes] = &staged[j];
+      mu_lane[lanes] = mu[j];
+      lane_of[lanes++] = j;
+    }
+    bool found[L] = {};
+    if (lanes >= 2) detail::slide_from_hints(lanes, Wp, wp, mu_lane, hp, out, found);
+    if (lanes == 1) found[0] = detail::slide_from_hint(*Wp[0], *wp[0], mu_lane[0], *hp[0], *out[0]);
+    for (int a = 0; a < lanes; ++a) {
+      const int j = lane_of[a];
+      if (found[a]) {
+        ++by_newton;
+      } else {
+        staged[j] = detail::slide_scan(W[j], w[j], mu[j], stick[j], d0[j]);
+        ++by_scan;
+      }
+    }
+    for (int j = 0; j < n; ++j) {
+      ASSERT_EQ(std::memcmp(staged[j].data(), whole[j].data(), sizeof(Vec3)), 0) << "problem " << k << " lane " << j;
+      ++slides;
+    }
+  }
+  EXPECT_GE(slides, 4000);
+  EXPECT_GT(by_newton, 1000);  // most cold slides end in Newton's lanes
+  EXPECT_GT(by_fixed_point, 100);  // the isotropic blocks end in the fixed point
+  EXPECT_GT(by_scan, 0);           // and the scan is reached through a lane
+  std::cout << "fixed point " << by_fixed_point << ", Newton " << by_newton << ", scan " << by_scan << "\n";
 }
 
 }  // namespace

@@ -144,20 +144,45 @@ bool detail::slide_from_hint(const Mat3& W, const Vec3& w, double mu, const Eige
   return true;
 }
 
-void detail::slide_from_hints(const Mat3* const W[2], const Vec3* const w[2], const double mu[2],
-                              const Eigen::Vector2d* const hint[2], Vec3* lambda[2], bool found[2]) {
-  NewtonLane L[2] = {newton_lane(*W[0], *w[0], mu[0], *hint[0]), newton_lane(*W[1], *w[1], mu[1], *hint[1])};
-  bool active[2] = {true, true};
-  // Each lane takes exactly the steps it would alone (at most kNewtonCap).
-  for (int it = 0; it < kNewtonCap && (active[0] || active[1]); ++it) {
-    if (active[0]) active[0] = newton_step(L[0]);
-    if (active[1]) active[1] = newton_step(L[1]);
+namespace {
+
+// N lanes, N known when compiled so that the lanes' loops unroll.
+template <int N>
+void slide_lanes(const Mat3* const W[], const Vec3* const w[], const double mu[], const Eigen::Vector2d* const hint[],
+                 Vec3* lambda[], bool found[]) {
+  NewtonLane L[N];
+  bool active[N];
+  for (int k = 0; k < N; ++k) {
+    L[k] = newton_lane(*W[k], *w[k], mu[k], *hint[k]);
+    active[k] = true;
   }
-  for (int k = 0; k < 2; ++k) {
+  // Each lane takes exactly the steps it would alone (at most kNewtonCap).
+  for (int it = 0; it < kNewtonCap; ++it) {
+    bool any = false;
+    for (int k = 0; k < N; ++k) {
+      if (active[k]) active[k] = newton_step(L[k]);
+      any = any || active[k];
+    }
+    if (!any) break;
+  }
+  for (int k = 0; k < N; ++k) {
     Eigen::Vector2d da;
     SlideTrial f;
     found[k] = newton_admissible(L[k], da, f);
     if (found[k]) *lambda[k] = slide_impulse(f, mu[k], da);
+  }
+}
+
+}  // namespace
+
+void detail::slide_from_hints(int n, const Mat3* const W[], const Vec3* const w[], const double mu[],
+                              const Eigen::Vector2d* const hint[], Vec3* lambda[], bool found[]) {
+  switch (n) {
+    case 2: slide_lanes<2>(W, w, mu, hint, lambda, found); break;
+    case 3: slide_lanes<3>(W, w, mu, hint, lambda, found); break;
+    case 4: slide_lanes<4>(W, w, mu, hint, lambda, found); break;
+    default:
+      for (int k = 0; k < n; ++k) found[k] = slide_from_hint(*W[k], *w[k], mu[k], *hint[k], *lambda[k]);
   }
 }
 
@@ -175,8 +200,15 @@ LocalSolution detail::solve_local_slide(const Mat3& W, const Vec3& w, double mu,
 LocalSolution detail::slide_cold(const Mat3& W, const Vec3& w, double mu, const Vec3& stick, double lt) {
   LocalSolution sol;
   sol.status = LocalStatus::Slide;
-  Eigen::Vector2d da;
-  SlideTrial f;
+  Eigen::Vector2d d0;
+  if (slide_fixed_point(W, w, mu, stick, lt, d0, sol.lambda)) return sol;
+  if (slide_from_hint(W, w, mu, d0, sol.lambda)) return sol;
+  sol.lambda = slide_scan(W, w, mu, stick, d0);
+  return sol;
+}
+
+bool detail::slide_fixed_point(const Mat3& W, const Vec3& w, double mu, const Vec3& stick, double lt,
+                               Eigen::Vector2d& d0, Vec3& lambda) {
   // Slide: find the direction d with u_t(d) = -k d, k > 0. Fixed point
   // d <- -u_t(d)/|u_t(d)| from the stick trial direction; it converges in one step when
   // W_tt is isotropic and W_nt = 0 (a sphere on a plane). Otherwise it is slow to reach
@@ -185,7 +217,7 @@ LocalSolution detail::slide_cold(const Mat3& W, const Vec3& w, double mu, const 
   Eigen::Vector2d d = lt > 0.0 ? Eigen::Vector2d(stick[1] / lt, stick[2] / lt)
                                : Eigen::Vector2d(-w[1], -w[2]).normalized();
   if (!d.allFinite()) d = Eigen::Vector2d(1.0, 0.0);
-  const Eigen::Vector2d d0 = d;  // the stick trial direction
+  d0 = d;  // the stick trial direction
   constexpr double kDirTol = 1e-13;  // direction converged to near round-off
   for (int it = 0; it < kFixedPointSteps; ++it) {
     const SlideTrial s = slide_trial(W, w, mu, d);
@@ -195,15 +227,15 @@ LocalSolution detail::slide_cold(const Mat3& W, const Vec3& w, double mu, const 
     const Eigen::Vector2d d_next = -s.u_t / un;
     if ((d_next - d).norm() < kDirTol && s.lambda_n >= 0.0) {
       const SlideTrial f = slide_trial(W, w, mu, d_next);
-      sol.lambda = Vec3(f.lambda_n, mu * f.lambda_n * d_next.x(), mu * f.lambda_n * d_next.y());
-      return sol;
+      lambda = Vec3(f.lambda_n, mu * f.lambda_n * d_next.x(), mu * f.lambda_n * d_next.y());
+      return true;
     }
     d = d_next;
   }
-  if (newton_slide(W, w, mu, d0, da, f)) {
-    sol.lambda = Vec3(f.lambda_n, mu * f.lambda_n * da.x(), mu * f.lambda_n * da.y());
-    return sol;
-  }
+  return false;
+}
+
+Vec3 detail::slide_scan(const Mat3& W, const Vec3& w, double mu, const Vec3& stick, const Eigen::Vector2d& d0) {
   // Fallback for strongly coupled W: scan the angle of d for sign changes of the
   // residual, bisect each to machine precision, and keep the admissible roots
   // (lambda_n >= 0, u_t . d < 0). Several may exist when mu is large (the local problem
@@ -241,13 +273,11 @@ LocalSolution detail::slide_cold(const Mat3& W, const Vec3& w, double mu, const 
   if (found) {
     const Eigen::Vector2d db = dir(best_angle);
     const SlideTrial f = slide_trial(W, w, mu, db);
-    sol.lambda = Vec3(f.lambda_n, mu * f.lambda_n * db.x(), mu * f.lambda_n * db.y());
-  } else {
-    // No admissible sliding direction found (not seen in the property test of
-    // tests/solver/local_coulomb_test.cpp): project the stick impulse onto the cone.
-    sol.lambda = project_onto_cone(stick, mu);
+    return Vec3(f.lambda_n, mu * f.lambda_n * db.x(), mu * f.lambda_n * db.y());
   }
-  return sol;
+  // No admissible sliding direction found (not seen in the property test of
+  // tests/solver/local_coulomb_test.cpp): project the stick impulse onto the cone.
+  return project_onto_cone(stick, mu);
 }
 
 }  // namespace ratchet

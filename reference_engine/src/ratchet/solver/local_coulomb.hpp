@@ -39,12 +39,21 @@ LocalSolution solve_local_slide(const Mat3& W, const Vec3& w, double mu, const V
                                 const Eigen::Vector2d* hint = nullptr);
 // Newton from the hint alone: true, with the impulse, when it ends at an admissible slide.
 bool slide_from_hint(const Mat3& W, const Vec3& w, double mu, const Eigen::Vector2d& hint, Vec3& lambda);
-// The same for two independent problems at once, each with the bits it has alone: their
-// Newton iterations interleaved, so that one's divisions and square roots wait while the
-// other's run (a slide is a chain of them, and a third of a sweep's rows slide).
-void slide_from_hints(const Mat3* const W[2], const Vec3* const w[2], const double mu[2],
-                      const Eigen::Vector2d* const hint[2], Vec3* lambda[2], bool found[2]);
+// The same for n (2 to kSlideLanes) independent problems at once, each with the bits it
+// has alone: their Newton iterations interleaved, so that one's divisions and square
+// roots run while the others' wait (a slide is a chain of them, and a third of a sweep's
+// rows slide).
+constexpr int kSlideLanes = 4;
+void slide_from_hints(int n, const Mat3* const W[], const Vec3* const w[], const double mu[],
+                      const Eigen::Vector2d* const hint[], Vec3* lambda[], bool found[]);
+// The slide without a hint, in three stages that can be taken apart (a sweep solves the
+// second stage of several rows together): the fixed point from the stick direction d0
+// (slide_fixed_point: true with the impulse when it converged), Newton from d0
+// (slide_from_hint), and the scan of the angle for an admissible root (slide_scan).
 LocalSolution slide_cold(const Mat3& W, const Vec3& w, double mu, const Vec3& stick, double lt);
+bool slide_fixed_point(const Mat3& W, const Vec3& w, double mu, const Vec3& stick, double lt, Eigen::Vector2d& d0,
+                       Vec3& lambda);
+Vec3 slide_scan(const Mat3& W, const Vec3& w, double mu, const Vec3& stick, const Eigen::Vector2d& d0);
 }  // namespace detail
 
 // What solve_local_coulomb decides before a slide: the open, frictionless and stick

@@ -40,14 +40,15 @@ Vec3 weaker_push(SolverRow& c, const Vec3& w, const Vec3& spring) {
   return cap ? capped : spring;
 }
 
-// A row whose slide is put off to be solved together with another's (sweep): its local
+// A row whose slide is put off to be solved together with others (sweep): its local
 // problem as the row left it. Its bodies are no other row's until it is finished.
 struct PutOff {
   int row = -1, group = -1;
   Mat3 block;  // W, or W + c I
   Vec3 w, stick;
   double lt = 0.0;
-  Eigen::Vector2d hint;
+  Eigen::Vector2d hint;  // Newton's start: the last slide's direction, or (cold) the stick direction
+  bool cold = false;     // no last slide: the fixed point has run and not converged (detail::slide_cold)
 };
 
 // The end of a row's solve: its change applied at once, the impulse before and after
@@ -70,9 +71,10 @@ template <bool Record>
 }
 
 // One contact of a Gauss-Seidel sweep: solved exactly with the others frozen, its change
-// applied at once. With put_off (a coloured sweep), a slide that starts from its last
-// direction is not solved here: the row's problem goes into *put_off, nothing of the
-// row is changed, and the caller finishes it (true).
+// applied at once. With put_off (a coloured sweep), a slide's Newton iteration is not
+// run here (from the last slide's direction, or, without one, from the stick direction
+// once the fixed point has not converged): the row's problem goes into *put_off,
+// nothing of the row is changed, and the caller finishes it (true).
 template <bool Record>
 [[gnu::always_inline]] inline bool solve_row(SolverRow& c, const BodyArrays& B, bool friction, bool rotation,
                                              double compliance, double relax, double& d2, double& l2, double* x,
@@ -104,12 +106,17 @@ template <bool Record>
     double lt = 0.0;
     if (solve_local_before_slide(c.W, c.W_inv, w, c.mu, shift, sol, stick, lt)) {
       lambda_new = sol.lambda;
-    } else if (put_off != nullptr && slid != nullptr && c.bias_capped == 0.0) {
+    } else if (put_off != nullptr && c.bias_capped == 0.0) {
       put_off->block = shift != 0.0 ? shifted_block(c.W, shift) : c.W;
+      put_off->cold = slid == nullptr;
+      if (!put_off->cold) put_off->hint = hint;
+      if (put_off->cold && detail::slide_fixed_point(put_off->block, w, c.mu, stick, lt, put_off->hint, lambda_new)) {
+        finish_row<Record>(c, lambda_new, B, rotation, relax, d2, l2, x, g);
+        return false;
+      }
       put_off->w = w;
       put_off->stick = stick;
       put_off->lt = lt;
-      put_off->hint = hint;
       return true;
     } else {
       lambda_new = (shift != 0.0 ? detail::solve_local_slide(shifted_block(c.W, shift), w, c.mu, stick, lt, slid)
@@ -131,14 +138,15 @@ template <bool Record>
   return false;
 }
 
-// The slides put off in a coloured sweep, one held at a time: a second one is solved with
-// it (their Newton iterations interleaved, detail::slide_from_hints, each with the bits it
-// has alone), and a held one is solved alone before the next row of its own group and at
-// the end of the thread's share of a colour. Rows of other groups of the colour touch
-// other bodies, so solving a row later among them changes no bit; its group's sums still
-// get its terms in row order. gs: the per-group sums (|d lambda|^2, |lambda|^2).
+// The slides put off in a coloured sweep, up to kSlideLanes held at a time, each of
+// another group: when the batch is full they are solved together (their Newton
+// iterations interleaved, detail::slide_from_hints, each with the bits it has alone),
+// and the held ones are solved before the next row of a held row's group and at the end
+// of the thread's share of a colour. Rows of other groups of the colour touch other
+// bodies, so solving a row later among them changes no bit; its group's sums still get
+// its terms in row order. gs: the per-group sums (|d lambda|^2, |lambda|^2).
 template <bool Record>
-struct SlidePairing {
+struct SlideBatch {
   SolverRow* rows;
   const BodyArrays& B;
   bool rotation;
@@ -147,44 +155,59 @@ struct SlidePairing {
   double* gs;
   double* x;
   double* g;
-  PutOff held, next;
-  bool holding = false;
+  PutOff held[detail::kSlideLanes];
+  int count = 0;
 
   [[gnu::always_inline]] void finish(const PutOff& p, const Vec3& lambda) {
     finish_row<Record>(rows[p.row], lambda, B, rotation, relax, gs[2 * p.group], gs[2 * p.group + 1],
                        Record ? x + 3 * p.row : x, Record ? g + 3 * p.row : g);
   }
-  Vec3 cold(const PutOff& p) { return detail::slide_cold(p.block, p.w, rows[p.row].mu, p.stick, p.lt).lambda; }
-  void solve_held() {
-    if (!holding) return;
-    Vec3 lambda;
-    if (!detail::slide_from_hint(held.block, held.w, rows[held.row].mu, held.hint, lambda)) lambda = cold(held);
-    finish(held, lambda);
-    holding = false;
+  // Newton from the hint did not end at an admissible slide: a hinted row goes the cold
+  // way, a cold one (whose fixed point and Newton from the stick direction have run) on
+  // to the scan.
+  Vec3 fallback(const PutOff& p) {
+    const double mu = rows[p.row].mu;
+    return p.cold ? detail::slide_scan(p.block, p.w, mu, p.stick, p.hint)
+                  : detail::slide_cold(p.block, p.w, mu, p.stick, p.lt).lambda;
   }
-  void solve_pair() {
-    const Mat3* W[2] = {&held.block, &next.block};
-    const Vec3* w[2] = {&held.w, &next.w};
-    const double mu[2] = {rows[held.row].mu, rows[next.row].mu};
-    const Eigen::Vector2d* hint[2] = {&held.hint, &next.hint};
-    Vec3 lambda[2];
-    Vec3* out[2] = {&lambda[0], &lambda[1]};
-    bool found[2];
-    detail::slide_from_hints(W, w, mu, hint, out, found);
-    finish(held, found[0] ? lambda[0] : cold(held));
-    finish(next, found[1] ? lambda[1] : cold(next));
-    holding = false;
+  void solve_held() {
+    if (count == 0) return;
+    if (count == 1) {
+      Vec3 lambda;
+      if (!detail::slide_from_hint(held[0].block, held[0].w, rows[held[0].row].mu, held[0].hint, lambda))
+        lambda = fallback(held[0]);
+      finish(held[0], lambda);
+      count = 0;
+      return;
+    }
+    const Mat3* W[detail::kSlideLanes];
+    const Vec3* w[detail::kSlideLanes];
+    double mu[detail::kSlideLanes];
+    const Eigen::Vector2d* hint[detail::kSlideLanes];
+    Vec3 lambda[detail::kSlideLanes];
+    Vec3* out[detail::kSlideLanes];
+    bool found[detail::kSlideLanes];
+    for (int k = 0; k < count; ++k) {
+      W[k] = &held[k].block;
+      w[k] = &held[k].w;
+      mu[k] = rows[held[k].row].mu;
+      hint[k] = &held[k].hint;
+      out[k] = &lambda[k];
+    }
+    detail::slide_from_hints(count, W, w, mu, hint, out, found);
+    for (int k = 0; k < count; ++k) finish(held[k], found[k] ? lambda[k] : fallback(held[k]));
+    count = 0;
   }
   void row(int k, int grp, bool friction) {
-    if (holding && held.group == grp) solve_held();  // it comes first in its group
-    PutOff& slot = holding ? next : held;
+    for (int j = 0; j < count; ++j)
+      if (held[j].group == grp) { solve_held(); break; }  // a held row comes first in its group
+    PutOff& slot = held[count];
     if (!solve_row<Record>(rows[k], B, friction, rotation, compliance, relax, gs[2 * grp], gs[2 * grp + 1],
                            Record ? x + 3 * k : x, Record ? g + 3 * k : g, &slot))
       return;
     slot.row = k;
     slot.group = grp;
-    if (holding) solve_pair();
-    else holding = true;
+    if (++count == detail::kSlideLanes) solve_held();
   }
 };
 
@@ -212,15 +235,15 @@ void sweep(std::vector<SolverRow>& cs, SolverBodies& bodies, const RowColouring*
   const int* cb = col.colour_begin.data();
 #pragma omp parallel if (static_cast<int>(cs.size()) > parallel_min_rows)
   {
-    SlidePairing<Record> pairing{rows, B, rotation, compliance, relax, gs, x, g, {}, {}};
+    SlideBatch<Record> batch{rows, B, rotation, compliance, relax, gs, x, g, {}};
     for (int c = 0; c < nc; ++c) {
 #pragma omp for schedule(static) nowait
       for (int grp = cb[c]; grp < cb[c + 1]; ++grp) {
         gs[2 * grp] = 0.0;
         gs[2 * grp + 1] = 0.0;
-        for (int k = gb[grp]; k < gb[grp + 1]; ++k) pairing.row(k, grp, friction);
+        for (int k = gb[grp]; k < gb[grp + 1]; ++k) batch.row(k, grp, friction);
       }
-      pairing.solve_held();
+      batch.solve_held();
 #pragma omp barrier
     }
   }
