@@ -39,7 +39,7 @@ LocalSolution solve_local_slide(const Mat3& W, const Vec3& w, double mu, const V
                                 const Eigen::Vector2d* hint = nullptr);
 // Newton from the hint alone: true, with the impulse, when it ends at an admissible slide.
 bool slide_from_hint(const Mat3& W, const Vec3& w, double mu, const Eigen::Vector2d& hint, Vec3& lambda);
-// The same for n (2 to kSlideLanes) independent problems at once, each with the bits it
+// The same for n (1 to kSlideLanes) independent problems at once, each with the bits it
 // has alone: their Newton iterations interleaved, so that one's divisions and square
 // roots run while the others' wait (a slide is a chain of them, and a third of a sweep's
 // rows slide).

@@ -172,14 +172,6 @@ struct SlideBatch {
   }
   void solve_held() {
     if (count == 0) return;
-    if (count == 1) {
-      Vec3 lambda;
-      if (!detail::slide_from_hint(held[0].block, held[0].w, rows[held[0].row].mu, held[0].hint, lambda))
-        lambda = fallback(held[0]);
-      finish(held[0], lambda);
-      count = 0;
-      return;
-    }
     const Mat3* W[detail::kSlideLanes];
     const Vec3* w[detail::kSlideLanes];
     double mu[detail::kSlideLanes];
