@@ -116,9 +116,10 @@ def count_cells(f: fields.StageFields, cycles) -> CellCount:
     weight = np.where(populated, grains, 0)
     total = weight.sum(axis=0)
     uz_profile = np.where(total > 0, np.nansum(np.nan_to_num(uz) * weight, axis=0) / np.maximum(total, 1), np.nan)
-    circ = fields.circulation(f, cycles)
+    total_abs = float(np.sum(np.abs(w[interior])))
+    coherence = float(np.sum(w[interior])) / total_abs if total_abs > 0 else math.nan  # fields.circulation's
     radius, height = fields.bed_extent(f)
     return CellCount(cycles=cycles, radius=radius, height=height, interior_cells=int(interior.sum()),
-                     coherence=circ.coherence, bands=bands_of(columns, f.cell),
+                     coherence=coherence, bands=bands_of(columns, f.cell),
                      column_circulation=[float(c) for c in columns], uz_profile=[float(u) for u in uz_profile],
                      r=[float(x) for x in f.r])
