@@ -250,7 +250,7 @@ void sweep(std::vector<SolverRow>& cs, SolverBodies& bodies, const RowColouring*
   const int* gb = col.group_begin.data();
   const int* cb = col.colour_begin.data();
   const int n = static_cast<int>(cs.size());
-#pragma omp parallel if (static_cast<int>(cs.size()) > parallel_min_rows)
+#pragma omp parallel if (n > parallel_min_rows)
   {
     SlideBatch<Record> batch{rows, B, rotation, compliance, relax, gs, x, g, {}};
     for (int c = 0; c < nc; ++c) {
