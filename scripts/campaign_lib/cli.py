@@ -286,7 +286,8 @@ def main(argv=None) -> int:
     newer = stale_sources(engine.binary)
     if newer:
         say(f"warning: {len(newer)} engine source file(s) are newer than {shown(engine.binary)} (e.g. "
-            f"{shown(newer[0])}): rebuild unless the build is current")
+            f"{shown(newer[0])}): the engine is named by the binary's SHA-256, not by its sources' commit "
+            "(engine_dirty); rebuild unless the build is current")
     golden_now = golden.cached(work, engine)
     states = state.survey(plan, work, results, engine, golden_now)
     estimate = state.estimate(plan, states, engine, args.run_hours, args.threads)

@@ -60,7 +60,7 @@ class Engine:
     repo_head: str | None
     commit: str | None
     tree: str | None
-    dirty: bool
+    dirty: bool     # sources changed since HEAD, or newer than the binary
 
     @property
     def key(self) -> str:
@@ -101,9 +101,11 @@ def identify(ratchet: str | os.PathLike | None = None) -> Engine:
                           "-DRATCHET_BUILD_BENCHMARKS=OFF)") from None
     version = version_of(binary, "--ratchet")
     state = sources_state(ENGINE_SOURCES)
+    # A binary older than its sources may not be built from them: the tree then does
+    # not name it, and the record and the reuse key fall back to its SHA-256.
     return Engine(binary=binary, version=version, binary_sha256=file_sha256(binary),
                   repo_head=git("rev-parse", "HEAD"), commit=state["commit"], tree=state["tree"],
-                  dirty=state["dirty"])
+                  dirty=state["dirty"] or bool(stale_sources(binary)))
 
 
 def same_engine(a: dict, b: dict) -> bool:

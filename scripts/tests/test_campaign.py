@@ -7,9 +7,10 @@ completed as its SIGTERM came is stored, not stopped; stale results
 are rerun and results of an engine that passed the golden check are reused (also after a
 recheck of its binary on newer golden data); bad plans
 are refused naming the file and the field; the engine id ignores the engine's tests and
-benchmarks; the progress report gives the pace and warns when it falls; the engine runs in the
-campaign's session in a process group of its own; --assemble gives sweep folders that
-scripts/analysis/inputs.py reads; --commit commits each stored run."""
+benchmarks and names a binary older than its sources by its SHA-256; the progress report
+gives the pace and warns when it falls; the engine runs in the campaign's session in a
+process group of its own; --assemble gives sweep folders that scripts/analysis/inputs.py
+reads; --commit commits each stored run."""
 
 from __future__ import annotations
 
@@ -515,6 +516,20 @@ def test_the_engine_id_follows_the_binary_sources_not_its_tests_or_benchmarks(tm
     assert changed["tree"] != first["tree"] and changed["commit"] != first["commit"]
     (tmp_path / "reference_engine/app/new.cpp").write_text("// untracked\n")
     assert sources_state(ENGINE_SOURCES, repo=tmp_path)["dirty"]
+
+
+def test_a_binary_older_than_the_engine_sources_is_named_by_its_sha256(tmp_path):
+    # The sources' commit names a binary only if it was built from them; an older file
+    # may be a build of earlier sources (a run's record once named the wrong commit so).
+    copy = tmp_path / "ratchet"
+    shutil.copy2(RATCHET, copy)
+    os.utime(copy, (1, 1))                          # 1970: older than every source file
+    old = identify(copy)
+    assert old.dirty and old.key == f"bin-{old.binary_sha256[:16]}" and old.record()["engine_dirty"]
+    os.utime(copy, None)                            # now: newer than every source file
+    built = identify(copy)
+    assert built.dirty == sources_state(ENGINE_SOURCES)["dirty"]
+    assert built.binary_sha256 == old.binary_sha256 and built.tree == old.tree
 
 
 def test_the_progress_report_gives_the_pace_the_time_to_go_and_warns_when_the_pace_falls():
