@@ -17,7 +17,7 @@ from ratchet import command
 
 from . import golden, state
 from .assemble import assemble
-from .engine import EngineError, identify, stale_sources
+from .engine import EngineError, identify
 from .plan import PlanError, load_plan, resolve
 from .recheck import recheck
 from .runner import Runner, shown
@@ -283,7 +283,7 @@ def main(argv=None) -> int:
         except EngineError as error:
             print(f"campaign: error: {error}", file=sys.stderr, flush=True)
             return 2
-    newer = stale_sources(engine.binary)
+    newer = engine.stale
     if newer:
         say(f"warning: {len(newer)} engine source file(s) are newer than {shown(engine.binary)} (e.g. "
             f"{shown(newer[0])}): the engine is named by the binary's SHA-256, not by its sources' commit "

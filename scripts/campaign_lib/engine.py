@@ -61,6 +61,7 @@ class Engine:
     commit: str | None
     tree: str | None
     dirty: bool     # sources changed since HEAD, or newer than the binary
+    stale: tuple = ()   # engine source files newer than the binary (stale_sources)
 
     @property
     def key(self) -> str:
@@ -103,9 +104,10 @@ def identify(ratchet: str | os.PathLike | None = None) -> Engine:
     state = sources_state(ENGINE_SOURCES)
     # A binary older than its sources may not be built from them: the tree then does
     # not name it, and the record and the reuse key fall back to its SHA-256.
+    stale = tuple(stale_sources(binary))
     return Engine(binary=binary, version=version, binary_sha256=file_sha256(binary),
                   repo_head=git("rev-parse", "HEAD"), commit=state["commit"], tree=state["tree"],
-                  dirty=state["dirty"] or bool(stale_sources(binary)))
+                  dirty=state["dirty"] or bool(stale), stale=stale)
 
 
 def same_engine(a: dict, b: dict) -> bool:
