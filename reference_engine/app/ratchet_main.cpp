@@ -32,6 +32,7 @@
 #include <thread>
 
 #include "cli_main.hpp"
+#include "ratchet/core/build_info.hpp"
 #include "ratchet/io/bodies_file.hpp"
 #include "ratchet/io/state_file.hpp"
 #include "ratchet/observe/energy.hpp"
@@ -48,7 +49,13 @@ namespace {
 
 namespace fs = std::filesystem;
 
-const char* kVersion = "ratchet " RATCHET_VERSION " (" RATCHET_BUILD_TYPE ")";
+// `ratchet --version`: the release and build type, then what built this binary
+// (core/build_info.hpp), so that a script can tell whether it was built from the
+// sources beside it (scripts/campaign_lib/engine.py recomputes the source hash).
+std::string version_text() {
+  return std::string("ratchet " RATCHET_VERSION " (" RATCHET_BUILD_TYPE ")\n") + "commit: " + ratchet::engine_commit() +
+         "\nsource hash: " + ratchet::engine_source_hash() + "\ncompiler: " + ratchet::engine_compiler() + "\n";
+}
 
 // The synopsis of each command: its part of the usage, the first lines of its --help,
 // and what follows a usage error of that command.
@@ -455,7 +462,8 @@ int ratchet_cli_main(int argc, char** argv) {
   app.footer("See docs/cli.md and docs/scene-format.md.");
   // Before the commands: they inherit the help flag.
   app.set_help_flag("-h,--help", "print this help and exit");
-  app.set_version_flag("-V,--version", std::string(kVersion), "print the version and build type and exit");
+  app.set_version_flag("-V,--version", version_text(),
+                       "print the version, build type, commit, source hash and compiler, and exit");
   app.require_subcommand(0, 1);
   app.allow_extras();  // unknown commands and options are reported below, in our words
   app.option_defaults()->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);  // as before: the last one counts
@@ -535,7 +543,7 @@ int ratchet_cli_main(int argc, char** argv) {
     else std::cout << app.help();  // the help of the command given
     return 0;
   } catch (const CLI::CallForVersion&) {
-    std::cout << kVersion << "\n";
+    std::cout << version_text();
     return 0;
   } catch (const CLI::ParseError& e) {
     // "--out: 1 required DIR missing" is an option given without its value.
@@ -575,7 +583,7 @@ int ratchet_cli_main(int argc, char** argv) {
     return 0;
   }
   if (command == "version") {
-    std::cout << kVersion << "\n";
+    std::cout << version_text();
     return 0;
   }
   if (command == "sweep") {

@@ -283,11 +283,12 @@ def main(argv=None) -> int:
         except EngineError as error:
             print(f"campaign: error: {error}", file=sys.stderr, flush=True)
             return 2
-    newer = engine.stale
-    if newer:
-        say(f"warning: {len(newer)} engine source file(s) are newer than {shown(engine.binary)} (e.g. "
-            f"{shown(newer[0])}): the engine is named by the binary's SHA-256, not by its sources' commit "
-            "(engine_dirty); rebuild unless the build is current")
+    if engine.built_elsewhere:
+        why = (f"its source hash {engine.source_hash} is not that of the engine sources here ({engine.sources_hash})"
+               if engine.source_hash else f"{len(engine.stale)} engine source file(s) are newer than it (e.g. "
+               f"{shown(engine.stale[0])})")
+        say(f"warning: {shown(engine.binary)} was not built from this checkout's engine sources: {why}; the engine is "
+            "named by the binary's SHA-256, not by its sources' commit (engine_dirty); rebuild unless that is meant")
     golden_now = golden.cached(work, engine)
     states = state.survey(plan, work, results, engine, golden_now)
     estimate = state.estimate(plan, states, engine, args.run_hours, args.threads)

@@ -6,7 +6,7 @@ from __future__ import annotations
 import hashlib
 import os
 import subprocess
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 from common.paths import REPO_ROOT
@@ -60,8 +60,18 @@ class Engine:
     repo_head: str | None
     commit: str | None
     tree: str | None
-    dirty: bool     # sources changed since HEAD, or newer than the binary
-    stale: tuple = ()   # engine source files newer than the binary (stale_sources)
+    dirty: bool     # sources changed since HEAD, or the binary not built from them
+    stale: tuple = ()   # engine source files newer than a binary that cannot say its sources
+    source_hash: str | None = None   # the binary's, from `--version` (None: too old to say)
+    sources_hash: str | None = None  # the checkout's, computed as the build does (source_hash)
+
+    @property
+    def built_elsewhere(self) -> bool:
+        """The binary was not built from the engine sources in this checkout: its source
+        hash differs from theirs or, for a binary that cannot say, a source is newer."""
+        if self.source_hash is not None:
+            return self.source_hash != self.sources_hash
+        return bool(self.stale)
 
     @property
     def key(self) -> str:
@@ -78,18 +88,48 @@ class Engine:
         shown = binary.relative_to(REPO_ROOT) if REPO_ROOT in binary.parents else binary
         return {"binary": str(shown), "version": self.version, "binary_sha256": self.binary_sha256,
                 "repo_head": self.repo_head, "engine_commit": self.commit, "engine_tree": self.tree,
-                "engine_dirty": self.dirty, "engine_sources": list(ENGINE_SOURCES)}
+                "engine_dirty": self.dirty, "engine_sources": list(ENGINE_SOURCES),
+                "source_hash": self.source_hash}
 
 
 def version_of(binary: Path, option: str) -> str:
-    """`BIN --version`; an EngineError naming the option when the binary cannot say it."""
+    """`BIN --version` (all its lines; the record keeps the first, build_facts reads the
+    rest); an EngineError naming the option when the binary cannot say it."""
     try:
         done = subprocess.run(command("--version", ratchet=binary), capture_output=True, text=True, timeout=60)
     except OSError as error:
         raise EngineError(f"{option} {binary}: cannot run it ({error})") from None
     if done.returncode != 0:
         raise EngineError(f"{option} {binary}: '--version' failed: {done.stderr.strip()}")
+    if not done.stdout.strip():
+        raise EngineError(f"{option} {binary}: '--version' printed nothing (expected 'ratchet VERSION (BUILD TYPE)')")
     return done.stdout.strip()
+
+
+def build_facts(version: str) -> dict:
+    """The `key: value` lines after the first of `ratchet --version` ("commit",
+    "source hash", "compiler"; none from a binary built before 2026-12-06), and the
+    build type from the first line, "ratchet 0.1.0 (Release)"."""
+    first, *rest = version.splitlines() or [""]
+    facts = dict(line.split(": ", 1) for line in rest if ": " in line)
+    if first.endswith(")") and "(" in first:
+        facts["build type"] = first[first.rindex("(") + 1:-1]
+    return facts
+
+
+def source_hash(build_type: str, compiler: str, root: Path = REPO_ROOT) -> str:
+    """The source hash a build of `root` would print, as reference_engine/cmake/
+    build_info.cmake computes it: SHA-256 over the build type, the compiler and
+    "<SHA-256 of the file> <path>" for each engine and program source (*.cpp, *.hpp
+    under reference_engine/src and app) and the two CMakeLists.txt, sorted by path;
+    its first 16 hex digits. Both sides must change together (test_campaign.py checks
+    that they agree on the build)."""
+    files = [p.relative_to(root).as_posix() for top in ("reference_engine/src", "reference_engine/app")
+             for pattern in ("*.cpp", "*.hpp") for p in (root / top).rglob(pattern) if p.is_file()]
+    files = sorted(files + ["CMakeLists.txt", "reference_engine/CMakeLists.txt"])
+    listing = f"build_type {build_type}\ncompiler {compiler}\n"
+    listing += "".join(f"{file_sha256(root / f)} {f}\n" for f in files)
+    return hashlib.sha256(listing.encode()).hexdigest()[:16]
 
 
 def identify(ratchet: str | os.PathLike | None = None) -> Engine:
@@ -101,13 +141,19 @@ def identify(ratchet: str | os.PathLike | None = None) -> Engine:
         raise EngineError(f"--ratchet {e.filename}: no engine binary there (build it: RATCHET_JOBS=1 scripts/build "
                           "-DRATCHET_BUILD_BENCHMARKS=OFF)") from None
     version = version_of(binary, "--ratchet")
+    facts = build_facts(version)
     state = sources_state(ENGINE_SOURCES)
-    # A binary older than its sources may not be built from them: the tree then does
-    # not name it, and the record and the reuse key fall back to its SHA-256.
-    stale = tuple(stale_sources(binary))
-    return Engine(binary=binary, version=version, binary_sha256=file_sha256(binary),
-                  repo_head=git("rev-parse", "HEAD"), commit=state["commit"], tree=state["tree"],
-                  dirty=state["dirty"] or bool(stale), stale=stale)
+    # A binary not built from the sources beside it is not named by their tree: the
+    # record and the reuse key fall back to its SHA-256. The binary's source hash says
+    # so exactly; for an older binary that cannot say, a source newer than it does.
+    if "source hash" in facts:
+        built, ours, stale = facts["source hash"], source_hash(facts.get("build type", ""), facts.get("compiler", "")), ()
+    else:
+        built, ours, stale = None, None, tuple(stale_sources(binary))
+    engine = Engine(binary=binary, version=version.splitlines()[0],
+                    binary_sha256=file_sha256(binary), repo_head=git("rev-parse", "HEAD"), commit=state["commit"],
+                    tree=state["tree"], dirty=state["dirty"], stale=stale, source_hash=built, sources_hash=ours)
+    return replace(engine, dirty=engine.dirty or engine.built_elsewhere)
 
 
 def same_engine(a: dict, b: dict) -> bool:

@@ -7,7 +7,8 @@ completed as its SIGTERM came is stored, not stopped; stale results
 are rerun and results of an engine that passed the golden check are reused (also after a
 recheck of its binary on newer golden data); bad plans
 are refused naming the file and the field; the engine id ignores the engine's tests and
-benchmarks and names a binary older than its sources by its SHA-256; the progress report
+benchmarks and names a binary built from other sources (its source hash, or for
+an older binary its age) by its SHA-256; the progress report
 gives the pace and warns when it falls; the engine runs in the campaign's session in a
 process group of its own; --assemble gives sweep folders that scripts/analysis/inputs.py
 reads; --commit commits each stored run."""
@@ -16,6 +17,7 @@ from __future__ import annotations
 
 import json
 import os
+import shlex
 import shutil
 import subprocess
 import sys
@@ -518,18 +520,56 @@ def test_the_engine_id_follows_the_binary_sources_not_its_tests_or_benchmarks(tm
     assert sources_state(ENGINE_SOURCES, repo=tmp_path)["dirty"]
 
 
-def test_a_binary_older_than_the_engine_sources_is_named_by_its_sha256(tmp_path):
-    # The sources' commit names a binary only if it was built from them; an older file
-    # may be a build of earlier sources (a run's record once named the wrong commit so).
-    copy = tmp_path / "ratchet"
+def stand_in_engine(folder: Path, version: str) -> Path:
+    """A program that answers --version with `version` and otherwise runs the real engine."""
+    folder.mkdir(parents=True, exist_ok=True)
+    binary = folder / "ratchet"
+    binary.write_text(f"#!/bin/sh\n[ \"$1\" = --version ] && {{ printf '%s\\n' {shlex.quote(version)}; exit 0; }}\n"
+                      f"exec {RATCHET} \"$@\"\n")
+    binary.chmod(0o755)
+    return binary
+
+
+def test_the_campaign_computes_the_source_hash_the_build_printed():
+    # engine.py recomputes what reference_engine/cmake/build_info.cmake hashed; the two
+    # must agree, or every current build would be taken for one of other sources.
+    engine = identify(RATCHET)
+    assert engine.source_hash and len(engine.source_hash) == 16
+    assert engine.sources_hash == engine.source_hash and not engine.built_elsewhere
+
+
+def test_a_binary_built_from_other_sources_is_named_by_its_sha256(tmp_path):
+    # The sources' commit names a binary only if it was built from them (a run's record
+    # once named the wrong commit so): its source hash says whether it was, whatever
+    # its age; a binary too old to say is judged by its age.
+    real = identify(RATCHET)
+    copy = tmp_path / "copy" / "ratchet"
+    copy.parent.mkdir()
     shutil.copy2(RATCHET, copy)
     os.utime(copy, (1, 1))                          # 1970: older than every source file
-    old = identify(copy)
-    assert old.dirty and old.key == f"bin-{old.binary_sha256[:16]}" and old.record()["engine_dirty"]
-    os.utime(copy, None)                            # now: newer than every source file
-    built = identify(copy)
-    assert built.dirty == sources_state(ENGINE_SOURCES)["dirty"]
-    assert built.binary_sha256 == old.binary_sha256 and built.tree == old.tree
+    old_copy = identify(copy)
+    assert not old_copy.built_elsewhere and old_copy.dirty == real.dirty and old_copy.source_hash == real.source_hash
+
+    lines = real.version.splitlines() + version_lines(RATCHET)
+    other = "\n".join(l if not l.startswith("source hash: ") else "source hash: 0123456789abcdef" for l in lines)
+    elsewhere = identify(stand_in_engine(tmp_path / "other", other))
+    assert elsewhere.built_elsewhere and elsewhere.dirty and elsewhere.key == f"bin-{elsewhere.binary_sha256[:16]}"
+    assert elsewhere.record()["engine_dirty"] and elsewhere.record()["source_hash"] == "0123456789abcdef"
+    assert elsewhere.version == real.version == lines[0] and elsewhere.tree == real.tree
+
+    mute = stand_in_engine(tmp_path / "mute", lines[0])    # the first line only: built before 2026-12-06
+    os.utime(mute, (1, 1))
+    old = identify(mute)
+    assert old.source_hash is None and old.stale and old.built_elsewhere and old.dirty
+    os.utime(mute, None)                            # now: newer than every source file
+    new = identify(mute)
+    assert not new.stale and not new.built_elsewhere and new.dirty == real.dirty
+
+
+def version_lines(binary: Path) -> list:
+    """The lines of `binary --version` after the first."""
+    done = subprocess.run([str(binary), "--version"], capture_output=True, text=True, check=True)
+    return done.stdout.splitlines()[1:]
 
 
 def test_the_progress_report_gives_the_pace_the_time_to_go_and_warns_when_the_pace_falls():

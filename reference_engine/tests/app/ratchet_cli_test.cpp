@@ -16,6 +16,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "ratchet/core/build_info.hpp"
+
 namespace {
 
 namespace fs = std::filesystem;
@@ -350,8 +352,13 @@ TEST(RatchetCli, ANegativeProgressIntervalIsRefused) {
   fs::remove_all(d);
 }
 
+// The version names what built the binary, line by line, for scripts that check a
+// binary against its sources (scripts/campaign_lib/engine.py).
 TEST(RatchetCli, VersionFlagsAndCommand) {
-  const std::string expected = std::string("ratchet ") + RATCHET_VERSION + " (" + RATCHET_BUILD_TYPE + ")\n";
+  const std::string expected = std::string("ratchet ") + RATCHET_VERSION + " (" + RATCHET_BUILD_TYPE + ")\n" +
+                               "commit: " + ratchet::engine_commit() + "\nsource hash: " +
+                               ratchet::engine_source_hash() + "\ncompiler: " + ratchet::engine_compiler() + "\n";
+  EXPECT_TRUE(std::regex_match(ratchet::engine_source_hash(), std::regex("[0-9a-f]{16}")));
   for (const char* args : {"--version", "-V", "version"}) {
     const Result r = stdout_of(args);
     EXPECT_EQ(r.status, 0) << args;

@@ -15,4 +15,7 @@ const char* engine_commit();
 // compiler: it changes whenever the results could, and needs no git.
 const char* engine_source_hash();
 
+// The compiler the hash covers, as CMake names it ("GNU 12.2.0").
+const char* engine_compiler();
+
 }  // namespace ratchet
