@@ -6,7 +6,7 @@ from __future__ import annotations
 import hashlib
 import os
 import subprocess
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 from pathlib import Path
 
 from common.paths import REPO_ROOT
@@ -69,9 +69,7 @@ class Engine:
     def built_elsewhere(self) -> bool:
         """The binary was not built from the engine sources in this checkout: its source
         hash differs from theirs or, for a binary that cannot say, a source is newer."""
-        if self.source_hash is not None:
-            return self.source_hash != self.sources_hash
-        return bool(self.stale)
+        return built_elsewhere(self.source_hash, self.sources_hash, self.stale)
 
     @property
     def key(self) -> str:
@@ -106,11 +104,22 @@ def version_of(binary: Path, option: str) -> str:
     return done.stdout.strip()
 
 
+def version_line(version: str) -> str:
+    """The first line of `ratchet --version` ("ratchet 0.1.0 (Release)"): what records keep."""
+    return version.splitlines()[0]
+
+
+def built_elsewhere(built: str | None, ours: str | None, stale) -> bool:
+    """A binary whose source hash (`built`) is not the checkout's (`ours`); for a binary
+    too old to print one, one with engine sources newer than it (`stale`)."""
+    return built != ours if built is not None else bool(stale)
+
+
 def build_facts(version: str) -> dict:
     """The `key: value` lines after the first of `ratchet --version` ("commit",
     "source hash", "compiler"; none from a binary built before 2026-12-06), and the
     build type from the first line, "ratchet 0.1.0 (Release)"."""
-    first, *rest = version.splitlines() or [""]
+    first, *rest = version.splitlines()
     facts = dict(line.split(": ", 1) for line in rest if ": " in line)
     if first.endswith(")") and "(" in first:
         facts["build type"] = first[first.rindex("(") + 1:-1]
@@ -150,10 +159,10 @@ def identify(ratchet: str | os.PathLike | None = None) -> Engine:
         built, ours, stale = facts["source hash"], source_hash(facts.get("build type", ""), facts.get("compiler", "")), ()
     else:
         built, ours, stale = None, None, tuple(stale_sources(binary))
-    engine = Engine(binary=binary, version=version.splitlines()[0],
-                    binary_sha256=file_sha256(binary), repo_head=git("rev-parse", "HEAD"), commit=state["commit"],
-                    tree=state["tree"], dirty=state["dirty"], stale=stale, source_hash=built, sources_hash=ours)
-    return replace(engine, dirty=engine.dirty or engine.built_elsewhere)
+    return Engine(binary=binary, version=version_line(version), binary_sha256=file_sha256(binary),
+                  repo_head=git("rev-parse", "HEAD"), commit=state["commit"], tree=state["tree"],
+                  dirty=state["dirty"] or built_elsewhere(built, ours, stale), stale=stale, source_hash=built,
+                  sources_hash=ours)
 
 
 def same_engine(a: dict, b: dict) -> bool:

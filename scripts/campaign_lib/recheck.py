@@ -11,7 +11,7 @@ from pathlib import Path
 
 from common.fsutil import write_atomic
 from . import golden, store
-from .engine import Engine, EngineError, build_facts, file_sha256, version_of
+from .engine import Engine, EngineError, build_facts, file_sha256, version_line, version_of
 
 
 def stored_by(plan, results: Path, sha256: str) -> list:
@@ -27,7 +27,7 @@ def stored_by(plan, results: Path, sha256: str) -> list:
 def engine_of(binary: Path, record: dict) -> Engine:
     """The binary as the engine its stored runs name (their commit and source tree)."""
     version = version_of(binary, "--recheck-golden")
-    return Engine(binary=binary, version=version.splitlines()[0], binary_sha256=file_sha256(binary),
+    return Engine(binary=binary, version=version_line(version), binary_sha256=file_sha256(binary),
                   repo_head=record.get("repo_head"), commit=record.get("engine_commit"),
                   tree=record.get("engine_tree"), dirty=bool(record.get("engine_dirty", True)),
                   source_hash=build_facts(version).get("source hash"))
