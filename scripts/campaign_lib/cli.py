@@ -28,6 +28,7 @@ examples:
   scripts/campaign paper --dry-run --budget 3 --jobs 2
   scripts/campaign paper --budget 2.5 --jobs 2 --commit
   scripts/campaign paper --budget 2.5 --threads 2 --commit   # one run at a time on two cores
+  scripts/campaign paper --budget 2.6 --jobs 2 --min-slice 20 --finish-one --commit   # a kept machine
   scripts/campaign paper --budget 23 --jobs 64 --mpirun          # a cluster allocation
   scripts/campaign paper --assemble out/campaign/paper-sweeps
   scripts/campaign paper --recheck-golden OLD/ratchet --commit   # golden/ moved on, the engine did not
@@ -127,6 +128,11 @@ def parser() -> argparse.ArgumentParser:
     p.add_argument("--stop-margin", type=positive("--stop-margin"), metavar="SECONDS",
                    help="stop the engines this long before the budget ends (default 60, at most a tenth of "
                         "the budget)")
+    p.add_argument("--finish-one", action="store_true",
+                   help="near the budget's end, when none of the runs under way would finish at its pace but the "
+                        "most advanced would on all JOBS x THREADS threads, stop the others at a checkpoint and "
+                        "resume it on all of them (the same bits on any thread count); a last run alone gets the "
+                        "idle threads too")
     p.add_argument("--progress-every", type=positive("--progress-every"), default=600.0, metavar="SECONDS",
                    help="print each running run's progress this often (default 600)")
     return p
@@ -325,13 +331,15 @@ def main(argv=None) -> int:
     if args.jobs * args.threads > cores:
         say(f"warning: {args.jobs} run(s) of {args.threads} thread(s) each on {cores} core(s): more threads than "
             "cores slows every run far more than in proportion (OpenMP's threads wait busy at each barrier)")
+    if args.finish_one and args.jobs * args.threads == 1:
+        say("note: --finish-one has no threads to give with --jobs 1 --threads 1")
     margin = args.stop_margin if args.stop_margin else min(60.0, 0.1 * budget)
     say(f"plan {plan.name}: {len(states) - len(queue)} of {len(states)} runs stored and current, {len(queue)} to "
         f"run; budget {state.hours(budget)}, {args.jobs} at a time on {args.threads} thread(s) each; a run is estimated at "
         f"{state.hours(estimate.seconds)} ({estimate.source}{per_point(estimate)}); engine {engine.short}")
     runner = Runner(plan, work, results, engine, golden_now, launcher_words(args.mpirun), args.jobs,
                     estimate, budget, margin, args.progress_every, args.commit, say,
-                    min_slice=60.0 * args.min_slice, threads=args.threads)
+                    min_slice=60.0 * args.min_slice, threads=args.threads, finish_one=args.finish_one)
     started = time.monotonic()
     outcome = runner.run(queue)
     states = state.survey(plan, work, results, engine, golden_now)

@@ -17,7 +17,7 @@ from pathlib import Path
 
 from common.paths import REPO_ROOT
 
-from . import store
+from . import gather, store
 from .engine import Engine, file_sha256
 from .pace import Pace
 from .plan import Plan, same_json
@@ -64,7 +64,9 @@ class Active:
     command: list
     started: float
     started_iso: str
+    threads: int = 1
     stopping: bool = False
+    handing_over: bool = False   # stopped to resume at once on every thread (--finish-one)
     pace: Pace = field(default_factory=Pace)  # its step at each progress report
 
 
@@ -80,13 +82,14 @@ class Runner:
     def __init__(self, plan: Plan, work: Path, results: Path, engine: Engine, golden_check: dict | None,
                  launcher: list, jobs: int, estimate, budget_seconds: float,
                  stop_margin: float, progress_every: float, commit: bool, say, min_slice: float = 0.0,
-                 threads: int = 1):
+                 threads: int = 1, finish_one: bool = False):
         self.plan, self.work, self.results, self.engine = plan, work, results, engine
         self.golden_check, self.launcher, self.jobs = golden_check, launcher, jobs
         # Wall seconds of a run: a number for every run, or an Estimate (per point).
         self.estimate = estimate.for_run if hasattr(estimate, "for_run") else (lambda run, s=float(estimate): s)
         self.min_slice = min_slice  # seconds of budget worth starting a run that will not finish in it
         self.threads = threads      # OpenMP threads of each engine (the same bits for any count)
+        self.finish_one = finish_one  # near the end, one run on every thread (gather.py)
         self.start = time.monotonic()
         self.stop_at = self.start + budget_seconds - stop_margin
         self.grace = max(stop_margin, 5.0)
@@ -107,7 +110,7 @@ class Runner:
         outcome = Outcome()
         old = {s: signal.signal(s, self._on_signal) for s in (signal.SIGTERM, signal.SIGINT)}
         active: dict = {}
-        last_report = time.monotonic()
+        last_report = last_look = time.monotonic()
         try:
             queue = list(queue)
             while True:
@@ -136,6 +139,9 @@ class Runner:
                 if time.monotonic() - last_report >= self.progress_every:
                     self._report(active)
                     last_report = time.monotonic()
+                if self.finish_one and active and time.monotonic() - last_look >= gather.CHECK_SECONDS:
+                    self._finish_one(active, queue, outcome)
+                    last_look = time.monotonic()
                 time.sleep(POLL_SECONDS)
         finally:
             if active:   # an exception: the engines still get their SIGTERM and checkpoint
@@ -185,6 +191,38 @@ class Runner:
                      "ends (where the work folder outlives the session)")
         return text
 
+    def _finish_one(self, active: dict, queue: list, outcome: Outcome) -> None:
+        """gather.lead_to_finish on the runs under way; when it names one, every run stops at
+        a checkpoint and that one resumes at once on all the threads, and from then on the
+        invocation runs one run at a time on all of them."""
+        everything = self.jobs * self.threads
+        items = list(active.values())
+        running = []
+        for item in items:
+            progress, rates = item.state.folder.progress(), item.pace.rates()
+            if not rates or progress.total is None or progress.step is None:
+                return   # no pace yet: wait for the next progress report
+            running.append(gather.Running(item.state.run.label, progress.total - progress.step, rates[-1],
+                                          item.threads))
+        lead = gather.lead_to_finish(running, everything, self.left(), nothing_else_starts=not queue)
+        if lead is None:
+            return
+        chosen = items[lead]
+        alone = running[lead].alone_seconds(everything)
+        others = [i.state.run.label for i in items if i is not chosen]
+        self.say(f"finish one: {chosen.state.run.label} needs about {hours(alone)} alone on {everything} "
+                 f"thread(s), {hours(self.left())} of the budget left"
+                 + (f"; stopping {', '.join(others)} at a checkpoint to give it their threads" if others else
+                    "; it resumes on the idle threads"))
+        chosen.handing_over = True
+        self._stop_all(active, outcome)
+        self.jobs, self.threads = 1, everything
+        started = self._start(chosen.state)
+        if started:
+            active[started.proc.pid] = started
+        else:
+            outcome.stopped.append(chosen.state.run.label)
+
     def _start(self, state: RunState) -> Active | None:
         folder = state.folder
         if file_sha256(self.engine.binary) != self.engine.binary_sha256:
@@ -225,7 +263,7 @@ class Runner:
         self.say(f"start {state.run.label} ({how}{stale}); {hours(self.left())} of the budget left; "
                  f"log {folder.log}")
         item = Active(state=state, proc=proc, lock_fd=fd, command=command, started=time.monotonic(),
-                      started_iso=now_iso())
+                      started_iso=now_iso(), threads=self.threads)
         if how != "new":   # a resumed run goes on from its checkpoint: the first window's pace counts from there
             item.pace.add(item.started, progress.checkpoint)
         return item
@@ -256,7 +294,7 @@ class Runner:
         wall = time.monotonic() - item.started
         ledger = folder.ledger()
         ledger["segments"].append({"start": item.started_iso, "end": now_iso(), "wall_seconds": round(wall, 1),
-                                   "cpu_seconds": round(cpu, 1), "threads": self.threads, "exit_status": code,
+                                   "cpu_seconds": round(cpu, 1), "threads": item.threads, "exit_status": code,
                                    "host": socket.gethostname(), "command": [shown(c) if "/" in c else c
                                                                              for c in item.command]})
         folder.save_ledger(ledger)
@@ -276,6 +314,9 @@ class Runner:
             self.say(f"done {label} in {hours(wall)} (this session), {hours(total_cpu)} CPU in all; "
                      f"stored in {shown(where)}")
             outcome.stored.append(label)
+        elif what == "stopped" and item.handing_over:
+            self.say(f"{label} at a checkpoint ({progress.text()}): it resumes now on {self.jobs * self.threads} "
+                     "thread(s)")
         elif what == "stopped":
             self.say(f"stopped {label}: {progress.text()}; the next invocation resumes it")
             outcome.stopped.append(label)

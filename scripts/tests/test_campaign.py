@@ -11,7 +11,8 @@ benchmarks and names a binary built from other sources (its source hash, or for
 an older binary its age) by its SHA-256; the progress report
 gives the pace and warns when it falls; the engine runs in the campaign's session in a
 process group of its own; --assemble gives sweep folders that scripts/analysis/inputs.py
-reads; --commit commits each stored run."""
+reads; --commit commits each stored run; --finish-one hands the lead of a pair every
+thread at the last moment, and its run keeps the bytes of an uninterrupted one."""
 
 from __future__ import annotations
 
@@ -646,3 +647,68 @@ def test_the_volume_series_is_kept_as_written_and_only_it(tmp_path):
 ])
 def test_a_finished_engine_is_judged_by_its_folder_then_by_its_exit(code, stage, stopping, expected):
     assert exit_outcome(code, stage, stopping) == expected
+
+
+def test_finish_one_waits_while_the_pair_can_and_gives_the_lead_every_thread_at_the_last_moment():
+    from campaign_lib.gather import Running, lead_to_finish
+    # The paper bed near a session's end: a pair at 840 steps a minute each on one thread;
+    # alone on two threads a run goes 1/0.74 = 1.35 times that by the thread model.
+    pair = lambda left_a, left_b: [Running("a", left_a, 14.0, 1), Running("b", left_b, 14.0, 1)]
+    hour = 3600.0
+    # 50,000 steps left each: 1.0 h in the pair. With 1.5 h left the pair finishes: wait.
+    assert lead_to_finish(pair(50_000, 50_000), 2, 1.5 * hour, nothing_else_starts=True) is None
+    # 60,000 and 40,000 left: neither finishes in the pair (4286 s, 2857 s). b alone needs
+    # 2114 s, 2491 s with its safety (x 1.15 + 60 s); after one more minute in the pair it
+    # would need 2440 s, 2501 s with that minute. With 2600 s left: wait.
+    assert lead_to_finish(pair(60_000, 40_000), 2, 2600.0, nothing_else_starts=True) is None
+    # 2495 s left: b now or never (the lead is the run with the least time alone).
+    assert lead_to_finish(pair(60_000, 40_000), 2, 2495.0, nothing_else_starts=True) == 1
+    # 2400 s left: b cannot finish even alone: both stop at a checkpoint.
+    assert lead_to_finish(pair(60_000, 40_000), 2, 2400.0, nothing_else_starts=True) is None
+    # A pace not measured yet: no decision.
+    assert lead_to_finish([Running("a", 100, 0.0, 1), Running("b", 100, 5.0, 1)], 2, 60.0, True) is None
+    # A last run alone on one of two threads gets the idle one when no other run will start,
+    # and not when one may still start, or when it is nearly done.
+    assert lead_to_finish([Running("a", 50_000, 14.0, 1)], 2, 2 * hour, nothing_else_starts=True) == 0
+    assert lead_to_finish([Running("a", 50_000, 14.0, 1)], 2, 2 * hour, nothing_else_starts=False) is None
+    assert lead_to_finish([Running("a", 1000, 14.0, 1)], 2, 2 * hour, nothing_else_starts=True) is None
+    assert lead_to_finish([Running("a", 50_000, 20.0, 2)], 2, 2 * hour, nothing_else_starts=True) is None
+
+
+def test_finish_one_stops_the_pair_and_finishes_the_lead_on_both_threads_with_the_same_bytes(
+        tmp_path, monkeypatch, capsys):
+    # The real engines; the rule's choice is forced (its numbers are the test above), so the
+    # stop and the resume on more threads are what is checked: the lead's stored files are
+    # those of an uninterrupted one-thread run, its ledger has a segment on 1 and one on 2
+    # threads, and the other run waits at its checkpoint for the next invocation.
+    from campaign_lib import cli, gather
+    plan = write_plan(tmp_path, name="gather", seed_list=(3, 4), angles=(0,),
+                      set={**TINY_SET, "thermal.cycles": 60})
+    single = write_plan(tmp_path, name="single", seed_list=(4,), angles=(0,), set={**TINY_SET, "thermal.cycles": 60})
+    campaign(single, tmp_path / "w_ref", tmp_path / "r_ref", *run_args())
+    seen = []
+
+    def forced(running, all_threads, left, nothing_else_starts, check_every=gather.CHECK_SECONDS):
+        seen.append([r.label for r in running])
+        labels = [r.label for r in running]
+        return labels.index("theta0/seed4") if len(running) == 2 and len(seen) == 1 else None
+    monkeypatch.setattr(gather, "lead_to_finish", forced)
+    monkeypatch.setattr(gather, "CHECK_SECONDS", 0.0)
+    code = cli.main([str(plan), "--out", str(tmp_path / "w"), "--results", str(tmp_path / "r"), "--ratchet",
+                     str(RATCHET), "--budget", "0.2", "--golden-check", "skip", "--jobs", "2", "--finish-one",
+                     "--progress-every", "0.2"])
+    out = capsys.readouterr().out
+    assert code == 0, out
+    assert "finish one: theta0/seed4 needs about" in out and "stopping theta0/seed3 at a checkpoint to give it their threads" in out, out
+    assert "theta0/seed4 at a checkpoint (" in out and "it resumes now on 2 thread(s)" in out, out
+    assert "stopped theta0/seed3" in out and "1 stored, 1 stopped at a checkpoint, 0 failed" in out, out
+    ledger = json.loads((tmp_path / "w" / "runs" / "theta0" / "seed4" / "ledger.json").read_text())
+    assert [s["threads"] for s in ledger["segments"]] == [1, 2]
+    assert provenance(tmp_path / "r", "theta0/seed4")["threads"] == 2
+    ours, reference = tmp_path / "r" / "theta0" / "seed4", tmp_path / "r_ref" / "theta0" / "seed4"
+    names = sorted(f.name for f in reference.iterdir() if f.name not in ("provenance.json", "run.json"))
+    assert "cycles.csv" in names
+    for name in names:
+        assert (ours / name).read_bytes() == (reference / name).read_bytes(), name
+    assert not (tmp_path / "r" / "theta0" / "seed3").exists()
+    assert (tmp_path / "w" / "runs" / "theta0" / "seed3" / "out" / "runs" / "0" / "checkpoint.state").is_file()
