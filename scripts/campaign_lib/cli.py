@@ -132,7 +132,7 @@ def parser() -> argparse.ArgumentParser:
                    help="near the budget's end, when none of the runs under way would finish at its pace but the "
                         "most advanced would on all JOBS x THREADS threads, stop the others at a checkpoint and "
                         "resume it on all of them (the same bits on any thread count); a last run alone gets the "
-                        "idle threads too")
+                        "idle threads too. For machines whose work folder may not outlive the session")
     p.add_argument("--progress-every", type=positive("--progress-every"), default=600.0, metavar="SECONDS",
                    help="print each running run's progress this often (default 600)")
     return p
