@@ -172,13 +172,34 @@ def test_a_run_longer_than_the_budget_starts_while_the_minimum_slice_is_left(tmp
     assert bad.returncode == 2 and "--min-slice: expected a number >= 0, got '-1'" in bad.stderr
 
 
-def test_budget_ending_mid_run_leaves_a_run_the_next_invocation_completes_with_the_same_bytes(tmp_path):
-    # One run long enough to be stopped: 60 cycles (about 6 s of CPU). With 20 cycles and
-    # the stop at half, a CI machine once finished the run before the SIGTERM came.
-    plan = write_plan(tmp_path, name="long", seed_list=(3,), angles=(0,), set={**TINY_SET, "thermal.cycles": 60})
-    campaign(plan, tmp_path / "w_ref", tmp_path / "r_ref", *run_args())
-    reference = tmp_path / "r_ref" / "theta0" / "seed3"
-    took = provenance(tmp_path / "r_ref", "theta0/seed3")["wall_seconds"]
+LONG_SET = {**TINY_SET, "thermal.cycles": 60}
+
+
+@pytest.fixture(scope="module")
+def long_reference(tmp_path_factory):
+    """One run long enough to be stopped, uninterrupted on one thread: 60 cycles (about 6 s
+    of CPU; with 20 cycles and the stop at half, a CI machine once finished the run before
+    the SIGTERM came). Returns its stored folder."""
+    root = tmp_path_factory.mktemp("long")
+    plan = write_plan(root, name="long", seed_list=(3,), angles=(0,), set=LONG_SET)
+    campaign(plan, root / "w_ref", root / "r_ref", *run_args())
+    return root / "r_ref" / "theta0" / "seed3"
+
+
+def same_stored_bytes(ours: Path, reference: Path) -> None:
+    """Every stored result file, bit for bit (provenance.json and run.json hold times)."""
+    names = sorted(f.name for f in reference.iterdir() if f.name not in ("provenance.json", "run.json"))
+    assert "cycles.csv" in names and sorted(f.name for f in ours.iterdir()
+                                            if f.name not in ("provenance.json", "run.json")) == names
+    for name in names:
+        assert (ours / name).read_bytes() == (reference / name).read_bytes(), name
+
+
+def test_budget_ending_mid_run_leaves_a_run_the_next_invocation_completes_with_the_same_bytes(tmp_path,
+                                                                                             long_reference):
+    plan = write_plan(tmp_path, name="long", seed_list=(3,), angles=(0,), set=LONG_SET)
+    reference = long_reference
+    took = json.loads((reference / "provenance.json").read_text())["wall_seconds"]
 
     # The budget ends at about a third of the uninterrupted run's time (after the pour): a
     # margin of 3x for a machine whose load differs between the two invocations.
@@ -197,14 +218,7 @@ def test_budget_ending_mid_run_leaves_a_run_the_next_invocation_completes_with_t
 
     second = campaign(plan, tmp_path / "w", tmp_path / "r", *run_args())
     assert "start theta0/seed3 (resumes: interrupted" in second.stdout
-    stored = tmp_path / "r" / "theta0" / "seed3"
-    # Every stored result file, bit for bit (provenance.json and run.json hold times).
-    def results(folder):
-        return sorted(f.name for f in folder.iterdir() if f.name not in ("provenance.json", "run.json"))
-    names = results(reference)
-    assert "cycles.csv" in names and results(stored) == names
-    for name in names:
-        assert (stored / name).read_bytes() == (reference / name).read_bytes(), name
+    same_stored_bytes(tmp_path / "r" / "theta0" / "seed3", reference)
     assert provenance(tmp_path / "r", "theta0/seed3")["segments"] == 2
     log = (tmp_path / "w" / "runs" / "theta0" / "seed3" / "engine.log").read_text()
     assert "run 0 resumes at step" in log
@@ -676,22 +690,19 @@ def test_finish_one_waits_while_the_pair_can_and_gives_the_lead_every_thread_at_
 
 
 def test_finish_one_stops_the_pair_and_finishes_the_lead_on_both_threads_with_the_same_bytes(
-        tmp_path, monkeypatch, capsys):
+        tmp_path, monkeypatch, capsys, long_reference):
     # The real engines; the rule's choice is forced (its numbers are the test above), so the
     # stop and the resume on more threads are what is checked: the lead's stored files are
     # those of an uninterrupted one-thread run, its ledger has a segment on 1 and one on 2
     # threads, and the other run waits at its checkpoint for the next invocation.
     from campaign_lib import cli, gather
-    plan = write_plan(tmp_path, name="gather", seed_list=(3, 4), angles=(0,),
-                      set={**TINY_SET, "thermal.cycles": 60})
-    single = write_plan(tmp_path, name="single", seed_list=(4,), angles=(0,), set={**TINY_SET, "thermal.cycles": 60})
-    campaign(single, tmp_path / "w_ref", tmp_path / "r_ref", *run_args())
+    plan = write_plan(tmp_path, name="gather", seed_list=(3, 4), angles=(0,), set=LONG_SET)
     seen = []
 
     def forced(running, all_threads, left, nothing_else_starts, check_every=gather.CHECK_SECONDS):
         seen.append([r.label for r in running])
         labels = [r.label for r in running]
-        return labels.index("theta0/seed4") if len(running) == 2 and len(seen) == 1 else None
+        return labels.index("theta0/seed3") if len(running) == 2 and len(seen) == 1 else None
     monkeypatch.setattr(gather, "lead_to_finish", forced)
     monkeypatch.setattr(gather, "CHECK_SECONDS", 0.0)
     code = cli.main([str(plan), "--out", str(tmp_path / "w"), "--results", str(tmp_path / "r"), "--ratchet",
@@ -699,16 +710,13 @@ def test_finish_one_stops_the_pair_and_finishes_the_lead_on_both_threads_with_th
                      "--progress-every", "0.2"])
     out = capsys.readouterr().out
     assert code == 0, out
-    assert "finish one: theta0/seed4 needs about" in out and "stopping theta0/seed3 at a checkpoint to give it their threads" in out, out
-    assert "theta0/seed4 at a checkpoint (" in out and "it resumes now on 2 thread(s)" in out, out
-    assert "stopped theta0/seed3" in out and "1 stored, 1 stopped at a checkpoint, 0 failed" in out, out
-    ledger = json.loads((tmp_path / "w" / "runs" / "theta0" / "seed4" / "ledger.json").read_text())
+    assert "finish one: theta0/seed3 needs about" in out, out
+    assert "stopping theta0/seed4 at a checkpoint to give it their threads" in out, out
+    assert "theta0/seed3 at a checkpoint (" in out and "it resumes now on 2 thread(s)" in out, out
+    assert "stopped theta0/seed4" in out and "1 stored, 1 stopped at a checkpoint, 0 failed" in out, out
+    ledger = json.loads((tmp_path / "w" / "runs" / "theta0" / "seed3" / "ledger.json").read_text())
     assert [s["threads"] for s in ledger["segments"]] == [1, 2]
-    assert provenance(tmp_path / "r", "theta0/seed4")["threads"] == 2
-    ours, reference = tmp_path / "r" / "theta0" / "seed4", tmp_path / "r_ref" / "theta0" / "seed4"
-    names = sorted(f.name for f in reference.iterdir() if f.name not in ("provenance.json", "run.json"))
-    assert "cycles.csv" in names
-    for name in names:
-        assert (ours / name).read_bytes() == (reference / name).read_bytes(), name
-    assert not (tmp_path / "r" / "theta0" / "seed3").exists()
-    assert (tmp_path / "w" / "runs" / "theta0" / "seed3" / "out" / "runs" / "0" / "checkpoint.state").is_file()
+    assert provenance(tmp_path / "r", "theta0/seed3")["threads"] == 2
+    same_stored_bytes(tmp_path / "r" / "theta0" / "seed3", long_reference)
+    assert not (tmp_path / "r" / "theta0" / "seed4").exists()
+    assert (tmp_path / "w" / "runs" / "theta0" / "seed4" / "out" / "runs" / "0" / "checkpoint.state").is_file()
