@@ -720,3 +720,17 @@ def test_finish_one_stops_the_pair_and_finishes_the_lead_on_both_threads_with_th
     same_stored_bytes(tmp_path / "r" / "theta0" / "seed3", long_reference)
     assert not (tmp_path / "r" / "theta0" / "seed4").exists()
     assert (tmp_path / "w" / "runs" / "theta0" / "seed4" / "out" / "runs" / "0" / "checkpoint.state").is_file()
+
+
+@pytest.mark.parametrize("plan_file", sorted((REPO_ROOT / "validation" / "campaigns").glob("*.json")),
+                         ids=lambda p: p.name)
+def test_every_plan_of_the_repository_loads_and_the_engine_builds_each_point(plan_file, tmp_path):
+    # What the campaign checks before any work (cli.check_scenes): a plan that a user
+    # starts after hours of other runs must not stop at its first point.
+    from campaign_lib import cli, state
+    from campaign_lib.plan import load_plan
+    plan = load_plan(plan_file)
+    engine = identify(RATCHET)
+    states = state.survey(plan, tmp_path / "work", tmp_path / "results", engine, None)
+    assert states and all(not s.done for s in states)
+    cli.check_scenes(plan, states, engine)
