@@ -217,6 +217,8 @@ class Runner:
         chosen.handing_over = True
         self._stop_all(active, outcome)
         self.jobs, self.threads = 1, everything
+        if chosen.state.run.label in outcome.stored:
+            return   # it completed as its SIGTERM came, and was stored
         started = self._start(chosen.state)
         if started:
             active[started.proc.pid] = started
