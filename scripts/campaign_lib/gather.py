@@ -9,7 +9,7 @@ number of threads, so a run may change its thread count at a checkpoint."""
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 from .state import thread_factor
 
@@ -65,6 +65,6 @@ def lead_to_finish(running: list, all_threads: int, left: float, nothing_else_st
     need = needs_with_safety(r.alone_seconds(all_threads))
     if need > left:
         return None     # too late even alone: every run stops at a checkpoint
-    later = needs_with_safety(max(0.0, r.steps_left - r.rate * check_every) / r.rate
-                              * thread_factor(all_threads) / thread_factor(r.threads))
+    after_check = replace(r, steps_left=max(0.0, r.steps_left - r.rate * check_every))
+    later = needs_with_safety(after_check.alone_seconds(all_threads))
     return lead if check_every + later > left else None
