@@ -162,6 +162,53 @@ def test_a_knob_that_shapes_the_bed_pours_a_bed_per_setting(tmp_path):
     assert "failed" in r.stderr
 
 
+def stored_results(done, folder: Path) -> Path:
+    """The fixture's `rigid` runs laid out as a campaign stores them: seed<s>/, without
+    the timeseries (docs/campaign.md, Stored results)."""
+    for s in (1, 2):
+        shutil.copytree(done[1] / "runs" / f"rigid-s{s}", folder / f"seed{s}",
+                        ignore=shutil.ignore_patterns("timeseries.csv", "*.state", "*.vtk", "*.vtu"))
+    return folder
+
+
+def test_stored_runs_are_read_not_run(done, tmp_path):
+    stored = stored_results(done, tmp_path / "results")
+    plan = write_plan(tmp_path, stored={"rigid": "results"})
+    out = tmp_path / "out"
+    r = call(plan, "--out", out, "--jobs", "2")
+    assert r.returncode == 0, r.stderr
+    assert not list((out / "runs").glob("rigid-s*")) and len(list((out / "runs").glob("soft-s*/run.json"))) == 2
+    res = json.loads((out / "comparison.json").read_text())
+    assert res["stored"] == {"rigid": str(stored)}
+    ref = json.loads((done[1] / "comparison.json").read_text())["observables"]
+    for obs in ("P_max", "V_over_V0_end", "peak_cycle0"):
+        # The stored runs are the fixture's rigid runs, so their figures are the fixture's; the
+        # soft runs are the same scene, seed and binary from beds poured again: the same bits.
+        for n in ("rigid", "soft"):
+            assert res["observables"][obs][n]["mean"] == ref[obs][n]["mean"], (obs, n)
+    # No timeseries: the stored runs' sweeps are their cycles' means, and no overlap is claimed.
+    cycles = [pd.read_csv(stored / f"seed{s}" / "cycles.csv")["iterations_mean"].mean() for s in (1, 2)]
+    assert res["observables"]["sweeps_mean"]["rigid"]["mean"] == pytest.approx(np.mean(cycles), rel=1e-12)
+    assert res["observables"]["max_overlap_max"]["rigid"]["n"] == 0
+    assert "the stored runs of" in (out / "comparison.md").read_text()
+
+
+@pytest.mark.parametrize("fields, expected", [
+    ({"settings": {"rigid": {"solver.acceleration": "anderson", "solver.max_iterations": 4000}, "soft": {}}},
+     "field 'scene_hash': expected"),
+    ({"seeds": [1, 2, 3]}, "expected the completed run of seed 3"),
+    ({"stored": {"hard": "results"}}, "field 'stored': 'hard' is not one of the settings"),
+    ({"stored": {"rigid": "results", "soft": "results"}}, "every setting is stored"),
+])
+def test_a_stored_run_that_is_not_the_plans_stops_before_any_work(done, tmp_path, fields, expected):
+    stored_results(done, tmp_path / "results")
+    plan = write_plan(tmp_path, **{"stored": {"rigid": "results"}, **fields})
+    r = call(plan, "--out", tmp_path / "out")
+    assert r.returncode == 2, r.stderr
+    assert str(plan) in r.stderr and expected in r.stderr
+    assert not (tmp_path / "out").exists()
+
+
 @pytest.mark.parametrize("fields, expected", [
     ({"setings": {}}, "field 'setings': unknown field"),
     ({"pack_each_setting": "yes"}, "field 'pack_each_setting': expected true or false"),
