@@ -20,6 +20,7 @@ import json
 import os
 import shlex
 import shutil
+import signal
 import subprocess
 import sys
 from pathlib import Path
@@ -719,6 +720,52 @@ def test_finish_one_stops_the_pair_and_finishes_the_lead_on_both_threads_with_th
     assert provenance(tmp_path / "r", "theta0/seed3")["threads"] == 2
     same_stored_bytes(tmp_path / "r" / "theta0" / "seed3", long_reference)
     assert not (tmp_path / "r" / "theta0" / "seed4").exists()
+    assert (tmp_path / "w" / "runs" / "theta0" / "seed4" / "out" / "runs" / "0" / "checkpoint.state").is_file()
+
+
+def test_finish_one_stores_a_lead_that_completes_as_it_is_stopped_and_starts_it_no_more(
+        tmp_path, monkeypatch, capsys, long_reference):
+    # The race the early return in Runner._finish_one is for: the chosen run ends on its own
+    # just as the SIGTERMs go out, so _stop_all stores it. Made certain here: on the
+    # hand-over the other run's process group is paused (SIGSTOP) while the lead runs to its
+    # end (waited for without reaping it, so the runner's own wait4 judges it), then the
+    # stop goes on as the runner wrote it. The lead must be stored once, from one segment,
+    # and not started again on the idle threads.
+    from campaign_lib import cli, gather
+    from campaign_lib.runner import Runner
+    plan = write_plan(tmp_path, name="race", seed_list=(3, 4), angles=(0,), set=LONG_SET)
+    calls = []
+
+    def forced(running, all_threads, left, nothing_else_starts, check_every=gather.CHECK_SECONDS):
+        calls.append(1)
+        labels = [r.label for r in running]
+        return labels.index("theta0/seed3") if len(running) == 2 and len(calls) == 1 else None
+    original = Runner._stop_all
+
+    def stop_all(self, active, outcome):
+        lead = [i for i in active.values() if i.handing_over]
+        if lead:
+            others = [i for i in active.values() if not i.handing_over]
+            for o in others:
+                os.killpg(o.proc.pid, signal.SIGSTOP)
+            os.waitid(os.P_PID, lead[0].proc.pid, os.WEXITED | os.WNOWAIT)
+            for o in others:
+                os.killpg(o.proc.pid, signal.SIGCONT)
+        original(self, active, outcome)
+    monkeypatch.setattr(gather, "lead_to_finish", forced)
+    monkeypatch.setattr(gather, "CHECK_SECONDS", 0.0)
+    monkeypatch.setattr(Runner, "_stop_all", stop_all)
+    code = cli.main([str(plan), "--out", str(tmp_path / "w"), "--results", str(tmp_path / "r"), "--ratchet",
+                     str(RATCHET), "--budget", "0.2", "--golden-check", "skip", "--jobs", "2", "--finish-one",
+                     "--progress-every", "0.2"])
+    out = capsys.readouterr().out
+    assert code == 0, out
+    assert "finish one: theta0/seed3 needs about" in out, out
+    assert "it resumes now" not in out and out.count("done theta0/seed3") == 1, out
+    assert "stopped theta0/seed4" in out and "1 stored, 1 stopped at a checkpoint, 0 failed" in out, out
+    ledger = json.loads((tmp_path / "w" / "runs" / "theta0" / "seed3" / "ledger.json").read_text())
+    assert [s["threads"] for s in ledger["segments"]] == [1]
+    same_stored_bytes(tmp_path / "r" / "theta0" / "seed3", long_reference)
     assert (tmp_path / "w" / "runs" / "theta0" / "seed4" / "out" / "runs" / "0" / "checkpoint.state").is_file()
 
 
