@@ -690,12 +690,9 @@ def test_finish_one_waits_while_the_pair_can_and_gives_the_lead_every_thread_at_
     assert lead_to_finish([Running("a", 50_000, 20.0, 2)], 2, 2 * hour, nothing_else_starts=True) is None
 
 
-def test_finish_one_stops_the_pair_and_finishes_the_lead_on_both_threads_with_the_same_bytes(
-        tmp_path, monkeypatch, capsys, long_reference):
-    # The real engines; the rule's choice is forced (its numbers are the test above), so the
-    # stop and the resume on more threads are what is checked: the lead's stored files are
-    # those of an uninterrupted one-thread run, its ledger has a segment on 1 and one on 2
-    # threads, and the other run waits at its checkpoint for the next invocation.
+def finish_one_forced(tmp_path, monkeypatch, capsys) -> str:
+    """A pair of 60-cycle runs under --finish-one with the rule's choice forced to
+    theta0/seed3 at its first look; returns the campaign's output."""
     from campaign_lib import cli, gather
     plan = write_plan(tmp_path, name="gather", seed_list=(3, 4), angles=(0,), set=LONG_SET)
     seen = []
@@ -712,6 +709,16 @@ def test_finish_one_stops_the_pair_and_finishes_the_lead_on_both_threads_with_th
     out = capsys.readouterr().out
     assert code == 0, out
     assert "finish one: theta0/seed3 needs about" in out, out
+    return out
+
+
+def test_finish_one_stops_the_pair_and_finishes_the_lead_on_both_threads_with_the_same_bytes(
+        tmp_path, monkeypatch, capsys, long_reference):
+    # The real engines; the rule's choice is forced (its numbers are the test above), so the
+    # stop and the resume on more threads are what is checked: the lead's stored files are
+    # those of an uninterrupted one-thread run, its ledger has a segment on 1 and one on 2
+    # threads, and the other run waits at its checkpoint for the next invocation.
+    out = finish_one_forced(tmp_path, monkeypatch, capsys)
     assert "stopping theta0/seed4 at a checkpoint to give it their threads" in out, out
     assert "theta0/seed3 at a checkpoint (" in out and "it resumes now on 2 thread(s)" in out, out
     assert "stopped theta0/seed4" in out and "1 stored, 1 stopped at a checkpoint, 0 failed" in out, out
@@ -731,15 +738,7 @@ def test_finish_one_stores_a_lead_that_completes_as_it_is_stopped_and_starts_it_
     # end (waited for without reaping it, so the runner's own wait4 judges it), then the
     # stop goes on as the runner wrote it. The lead must be stored once, from one segment,
     # and not started again on the idle threads.
-    from campaign_lib import cli, gather
     from campaign_lib.runner import Runner
-    plan = write_plan(tmp_path, name="race", seed_list=(3, 4), angles=(0,), set=LONG_SET)
-    calls = []
-
-    def forced(running, all_threads, left, nothing_else_starts, check_every=gather.CHECK_SECONDS):
-        calls.append(1)
-        labels = [r.label for r in running]
-        return labels.index("theta0/seed3") if len(running) == 2 and len(calls) == 1 else None
     original = Runner._stop_all
 
     def stop_all(self, active, outcome):
@@ -752,15 +751,8 @@ def test_finish_one_stores_a_lead_that_completes_as_it_is_stopped_and_starts_it_
             for o in others:
                 os.killpg(o.proc.pid, signal.SIGCONT)
         original(self, active, outcome)
-    monkeypatch.setattr(gather, "lead_to_finish", forced)
-    monkeypatch.setattr(gather, "CHECK_SECONDS", 0.0)
     monkeypatch.setattr(Runner, "_stop_all", stop_all)
-    code = cli.main([str(plan), "--out", str(tmp_path / "w"), "--results", str(tmp_path / "r"), "--ratchet",
-                     str(RATCHET), "--budget", "0.2", "--golden-check", "skip", "--jobs", "2", "--finish-one",
-                     "--progress-every", "0.2"])
-    out = capsys.readouterr().out
-    assert code == 0, out
-    assert "finish one: theta0/seed3 needs about" in out, out
+    out = finish_one_forced(tmp_path, monkeypatch, capsys)
     assert "it resumes now" not in out and out.count("done theta0/seed3") == 1, out
     assert "stopped theta0/seed4" in out and "1 stored, 1 stopped at a checkpoint, 0 failed" in out, out
     ledger = json.loads((tmp_path / "w" / "runs" / "theta0" / "seed3" / "ledger.json").read_text())
