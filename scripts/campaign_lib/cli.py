@@ -12,7 +12,7 @@ import sys
 import time
 from pathlib import Path
 
-from common.paths import REPO_ROOT
+from common.paths import REPO_ROOT, shown
 from ratchet import command
 
 from . import golden, state
@@ -20,7 +20,7 @@ from .assemble import assemble
 from .engine import EngineError, identify
 from .plan import PlanError, load_plan, resolve
 from .recheck import recheck
-from .runner import Runner, shown
+from .runner import Runner
 
 USAGE_EXAMPLES = """
 examples:

@@ -15,7 +15,7 @@ import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from common.paths import REPO_ROOT
+from common.paths import shown
 
 from . import gather, store
 from .engine import Engine, file_sha256
@@ -33,13 +33,6 @@ ENGINE_PROCESS = {"process_group": 0}
 
 def now_iso() -> str:
     return datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds")
-
-
-def shown(path: Path) -> str:
-    """A path relative to the repository when inside it (provenance names no outside paths
-    when it need not)."""
-    path = Path(path).resolve()
-    return str(path.relative_to(REPO_ROOT)) if REPO_ROOT in path.parents else str(path)
 
 
 def exit_outcome(code: int, stage: str, stopping: bool) -> str:

@@ -22,4 +22,11 @@ if str(PYTHON_DIR) not in sys.path:
 
 from ratchet.locate import build_dir, engine_binary  # noqa: E402
 
-__all__ = ["SCRIPTS_DIR", "REPO_ROOT", "PYTHON_DIR", "build_dir", "engine_binary"]
+__all__ = ["SCRIPTS_DIR", "REPO_ROOT", "PYTHON_DIR", "build_dir", "engine_binary", "shown"]
+
+
+def shown(path) -> str:
+    """A path relative to the repository when inside it (provenance and tables name no
+    outside paths when they need not)."""
+    path = Path(path).resolve()
+    return str(path.relative_to(REPO_ROOT)) if REPO_ROOT in path.parents else str(path)

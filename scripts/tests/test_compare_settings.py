@@ -187,6 +187,7 @@ def test_stored_runs_are_read_not_run(done, tmp_path):
         for n in ("rigid", "soft"):
             assert res["observables"][obs][n]["mean"] == ref[obs][n]["mean"], (obs, n)
     # No timeseries: the stored runs' sweeps are their cycles' means, and no overlap is claimed.
+    # rel 1e-12: the same numbers averaged in another order (numpy here, pandas there).
     cycles = [pd.read_csv(stored / f"seed{s}" / "cycles.csv")["iterations_mean"].mean() for s in (1, 2)]
     assert res["observables"]["sweeps_mean"]["rigid"]["mean"] == pytest.approx(np.mean(cycles), rel=1e-12)
     assert res["observables"]["max_overlap_max"]["rigid"]["n"] == 0
