@@ -31,7 +31,7 @@ from campaign_lib.plan import Plan, PlanError, load_plan, same_json
 from campaign_lib.state import one_thread_seconds, point_medians
 from common.figures import figure_caption
 from common.fsutil import write_atomic
-from common.paths import REPO_ROOT
+from common.paths import REPO_ROOT, shown
 
 from . import fields, headline, paper_figures, plots, trends
 from .verdict_text import RESULT_CLASS, result_text
@@ -186,11 +186,6 @@ STAGE_CHECKS = ("stage_heating_direction", "stage_cooling_direction", "still_zon
 NOT_RUN = "NOT YET RUN at the paper's scale"
 
 
-def _shown(path: Path) -> str:
-    path = Path(path).resolve()
-    return str(path.relative_to(REPO_ROOT)) if REPO_ROOT in path.parents else str(path)
-
-
 def _hours(seconds: float) -> str:
     return f"{seconds / 3600:.1f} CPU h"
 
@@ -257,10 +252,10 @@ def survey(plan: Plan, results: Path) -> Runs:
             folder = store.folder_of(results, run)
             if folder.is_dir() and any(folder.iterdir()):
                 refused.append(f"{run.label}: no {store.PROVENANCE} or no completed run.json in "
-                               f"{_shown(folder)} (not a stored run)")
+                               f"{shown(folder)} (not a stored run)")
             continue
         if not same_json(stored.run_json.get("scene"), plan.scene_for(run)):
-            refused.append(f"{run.label}: field 'scene' of {_shown(stored.folder / 'run.json')} "
+            refused.append(f"{run.label}: field 'scene' of {shown(stored.folder / 'run.json')} "
                            "differs from the plan's scene (plan or base scene changed since): not "
                            "used; the campaign reruns it")
             continue
@@ -378,14 +373,14 @@ def _check_rows(analyses: dict, statement: Statement) -> list:
                 if shared_shown:
                     continue  # the paper's point judged once: its runs are those of the part before
                 shown_here = True
-            shown = result_text(r.status, r.measured)
+            verdict = result_text(r.status, r.measured)
             measured = r.measured
             rows.append({"id": r.check_id, "case": r.case, "check": r.check,
                          "measured": "-" if measured is None or not math.isfinite(measured)
                          else f"{measured:.4g}",
-                         "tolerance": r.tolerance, "result": shown,
-                         "result_class": RESULT_CLASS[shown],
-                         "why": "" if shown == "PASS" else _why(r.reason)})
+                         "tolerance": r.tolerance, "result": verdict,
+                         "result_class": RESULT_CLASS[verdict],
+                         "why": "" if verdict == "PASS" else _why(r.reason)})
         shared_shown = shared_shown or shown_here
     order = {c: i for i, c in enumerate(statement.checks)}
     return sorted(rows, key=lambda row: order[row["id"]])
@@ -652,7 +647,7 @@ def build(plan_path: Path = DEFAULT_PLAN, results: Path = DEFAULT_RESULTS, out: 
     return {
         "title": TITLE,
         "generated": _dt.datetime.now(_dt.timezone.utc).strftime("%Y-%m-%d %H:%M UTC"),
-        "plan": _shown(plan.path), "results": _shown(Path(results)),
+        "plan": shown(plan.path), "results": shown(Path(results)),
         "stored": len(runs.used), "planned": planned,
         "parts": [{"name": p.name, "description": p.description,
                    "stored": sum(r.label in runs.used for r in plan.part_runs(p)),

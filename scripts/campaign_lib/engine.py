@@ -9,7 +9,7 @@ import subprocess
 from dataclasses import dataclass
 from pathlib import Path
 
-from common.paths import REPO_ROOT
+from common.paths import REPO_ROOT, shown
 from ratchet import ProgramNotFound, command, program
 
 #: What the `ratchet` binary is built from. The repository's HEAD moves with every stored
@@ -82,9 +82,7 @@ class Engine:
         return (self.commit or "unknown")[:10] + ("+dirty" if self.dirty else "")
 
     def record(self) -> dict:
-        binary = self.binary.resolve()
-        shown = binary.relative_to(REPO_ROOT) if REPO_ROOT in binary.parents else binary
-        return {"binary": str(shown), "version": self.version, "binary_sha256": self.binary_sha256,
+        return {"binary": shown(self.binary), "version": self.version, "binary_sha256": self.binary_sha256,
                 "repo_head": self.repo_head, "engine_commit": self.commit, "engine_tree": self.tree,
                 "engine_dirty": self.dirty, "engine_sources": list(ENGINE_SOURCES),
                 "source_hash": self.source_hash}

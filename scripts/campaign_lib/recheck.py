@@ -10,6 +10,7 @@ import json
 from pathlib import Path
 
 from common.fsutil import write_atomic
+from common.gitinfo import git_commit_folder
 from . import golden, store
 from .engine import Engine, EngineError, build_facts, file_sha256, version_line, version_of
 
@@ -60,7 +61,7 @@ def recheck(plan, work: Path, results: Path, binary: Path, commit: bool, say) ->
         f"passed; recorded in {len(added)} of its {len(runs)} stored run(s)"
         + (f": {', '.join(added)}" if added else " (all had it)"))
     if commit and added:
-        where = store.git_commit_folder(results, f"campaign {plan.name}: engine {engine.short} passes the golden "
+        where = git_commit_folder(results, f"campaign {plan.name}: engine {engine.short} passes the golden "
                                                  f"check again on golden data {str(record.get('golden_tree'))[:10]} "
                                                  f"(recorded in {len(added)} stored runs)")
         say(f"committed {where}")

@@ -16,6 +16,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from common.paths import shown
+from common.gitinfo import git_commit_folder
 
 from . import gather, store
 from .engine import Engine, file_sha256
@@ -359,7 +360,7 @@ class Runner:
         if self.commit:
             message = (f"campaign {self.plan.name}: store {run.label} (engine {self.engine.short}, "
                        f"{provenance['cpu_seconds'] / 3600:.2f} CPU h)")
-            commit = store.git_commit_folder(where, message)
+            commit = git_commit_folder(where, message)
             self.say(f"committed {run.label} as {commit}")
         return where
 

@@ -9,7 +9,6 @@ import hashlib
 import io
 import json
 import re
-import subprocess
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -130,18 +129,3 @@ def store(results: Path, run: Run, run_dir: Path, provenance: dict) -> Path:
     write_atomic(folder / PROVENANCE, json.dumps({**provenance, "files": files, "omitted": omitted},
                                                  indent=1, sort_keys=True) + "\n")
     return folder
-
-
-def git_commit_folder(folder: Path, message: str) -> str:
-    """Commits that folder only (other staged changes are left out); returns the commit."""
-    top = subprocess.run(["git", "-C", str(folder), "rev-parse", "--show-toplevel"], capture_output=True,
-                         text=True, check=False)
-    if top.returncode != 0:
-        raise RuntimeError(f"--commit: {folder} is not in a git checkout")
-    repo = top.stdout.strip()
-    for args in (["add", "--", str(folder)], ["commit", "-q", "-m", message, "--", str(folder)]):
-        done = subprocess.run(["git", "-C", repo, *args], capture_output=True, text=True, check=False)
-        if done.returncode != 0:
-            raise RuntimeError(f"--commit: git {args[0]} failed: {done.stderr.strip() or done.stdout.strip()}")
-    return subprocess.run(["git", "-C", repo, "rev-parse", "--short", "HEAD"], capture_output=True, text=True,
-                          check=False).stdout.strip()

@@ -210,6 +210,86 @@ def test_a_stored_run_that_is_not_the_plans_stops_before_any_work(done, tmp_path
     assert not (tmp_path / "out").exists()
 
 
+def git_checkout(folder: Path) -> Path:
+    for args in (["init", "-q"], ["config", "user.email", "t@example.org"], ["config", "user.name", "t"]):
+        subprocess.run(["git", "-C", str(folder), *args], check=True)
+    return folder
+
+
+def test_runs_are_kept_and_committed_as_they_complete_and_read_back(done, tmp_path):
+    """A plan with "keep": the runs completed before (the fixture's, copied in) are kept
+    at the start, the one made here as it completes, each committed alone; a fresh
+    machine with only the kept folder reads them all and pours and runs nothing."""
+    repo = git_checkout(tmp_path)
+    plan = write_plan(tmp_path, keep="kept")
+    out = tmp_path / "out"
+    shutil.copytree(done[1] / "runs", out / "runs", ignore=shutil.ignore_patterns("soft-s2*"))
+    shutil.copytree(done[1] / "packs", out / "packs", ignore=shutil.ignore_patterns("*.lock", "*.log"))
+    r = call(plan, "--out", out, "--commit")
+    assert r.returncode == 0, r.stderr
+    for n in ("rigid", "soft"):
+        for s in (1, 2):
+            kept = tmp_path / "kept" / f"{n}-s{s}"
+            record = json.loads((kept / "kept.json").read_text())
+            assert (record["setting"], record["seed"]) == (n, s)
+            assert record["engine"] == json.loads((out / "runs" / f"{n}-s{s}" / "run.json").read_text())["engine"]
+            # What was kept is the run's files byte for byte; bodies and shapes are not kept.
+            assert set(record["files"]) >= {"run.json", "cycles.csv", "timeseries.csv"}
+            for name, entry in record["files"].items():
+                assert (kept / name).read_bytes() == (out / "runs" / f"{n}-s{s}" / name).read_bytes()
+            assert not (kept / "bodies.csv").exists() and (out / "runs" / f"{n}-s{s}" / "bodies.csv").exists()
+    log = subprocess.run(["git", "-C", str(repo), "log", "--format=%s"], capture_output=True, text=True).stdout
+    assert log.count("kept (engine ") == 4 and "soft-s2 kept" in log.splitlines()[0]  # the run made here, last
+    assert subprocess.run(["git", "-C", str(repo), "status", "--porcelain", "kept"], capture_output=True,
+                          text=True).stdout == ""
+    first = json.loads((out / "comparison.json").read_text())
+    # A fresh machine: the kept folder alone.
+    fresh = tmp_path / "fresh"
+    r = call(plan, "--out", fresh)
+    assert r.returncode == 0, r.stderr
+    assert not list((fresh / "packs").glob("*.state")) and not list((fresh / "runs").iterdir())
+    again = json.loads((fresh / "comparison.json").read_text())
+    assert sorted(again["kept"]["runs"]) == ["rigid-s1", "rigid-s2", "soft-s1", "soft-s2"]
+    for obs in ("P_max", "V_over_V0_end", "sweeps_mean", "max_overlap_max"):
+        for n in ("rigid", "soft"):
+            assert again["observables"][obs][n] == first["observables"][obs][n], (obs, n)
+    assert "Read from the kept runs of" in (fresh / "comparison.md").read_text()
+
+
+def test_a_half_kept_run_is_not_read(done, tmp_path):
+    tool = load_tool()
+    folder = tmp_path / "kept" / "rigid-s1"
+    tool.keep_run(done[1] / "runs" / "rigid-s1", folder, {"setting": "rigid", "seed": 1})
+    assert tool.is_kept(folder)
+    (folder / "kept.json").unlink()  # the call stopped before its marker
+    assert not tool.is_kept(folder)
+
+
+def test_a_kept_run_of_another_scene_stops_before_any_work(done, tmp_path):
+    tool = load_tool()
+    tool.keep_run(done[1] / "runs" / "soft-s1", tmp_path / "kept" / "soft-s1", {"setting": "soft", "seed": 1})
+    settings = {"rigid": {"solver.acceleration": "anderson", "solver.max_iterations": 5000},
+                "soft": {"solver.acceleration": "anderson", "solver.max_iterations": 5000, "solver.compliance": 0.2}}
+    plan = write_plan(tmp_path, keep="kept", settings=settings)
+    r = call(plan, "--out", tmp_path / "out")
+    assert r.returncode == 2, r.stderr
+    assert str(plan) in r.stderr and "field 'keep'" in r.stderr and "the kept run is of another scene" in r.stderr
+    assert not (tmp_path / "out").exists()
+
+
+@pytest.mark.parametrize("fields, args, expected", [
+    ({}, ["--commit"], "has no field 'keep'"),
+    ({"keep": ""}, [], "field 'keep': expected the path of a folder"),
+    ({"keep": "kept"}, ["--commit", "--report"], "--report keeps and commits nothing"),
+])
+def test_bad_keep_stops_before_any_work(tmp_path, fields, args, expected):
+    plan = write_plan(tmp_path, **fields)
+    r = call(plan, "--out", tmp_path / "out", *args)
+    assert r.returncode == 2
+    assert expected in r.stderr
+    assert not (tmp_path / "out").exists()
+
+
 @pytest.mark.parametrize("fields, expected", [
     ({"setings": {}}, "field 'setings': unknown field"),
     ({"pack_each_setting": "yes"}, "field 'pack_each_setting': expected true or false"),
