@@ -18,11 +18,19 @@ SLOW_SHARE = 0.5
 
 @dataclass
 class Pace:
-    """(seconds, step) at each report of one run."""
+    """(seconds, step) at each report of one run that saw a step beyond the last."""
     marks: list = field(default_factory=list)
+    # The last report saw no step beyond the last mark's. The engine's growing timeseries
+    # reaches the disk at its checkpoints (io/atomic_file flush_size), so a run slower than
+    # a checkpoint per report shows the same step twice: no window ends there (a pace of 0
+    # and a false warning), the next step seen ends a longer one.
+    unchanged: bool = False
 
     def add(self, seconds: float, step: int | None) -> None:
-        if step is not None:
+        if step is None:
+            return
+        self.unchanged = bool(self.marks) and step <= self.marks[-1][1]
+        if not self.unchanged:
             self.marks.append((seconds, step))
 
     def rates(self) -> list:
@@ -32,6 +40,9 @@ class Pace:
     def text(self, total: int | None, left_seconds: float) -> str:
         """'' before two marks; else the last window's pace, what it implies for the run's
         end against the budget left, and the warning when the pace fell."""
+        if self.unchanged:
+            return ("; no step written since the last report (the engine writes its timeseries at its "
+                    "checkpoints): the pace when the next one is seen")
         rates = self.rates()
         if not rates:
             return ""

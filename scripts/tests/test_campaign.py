@@ -607,6 +607,25 @@ def test_the_progress_report_gives_the_pace_the_time_to_go_and_warns_when_the_pa
     assert len(pace.marks) == 4
 
 
+def test_a_report_that_sees_no_new_step_gives_no_pace_and_no_warning():
+    # The growing timeseries reaches the disk at the engine's checkpoints: a run slower than
+    # a checkpoint per report (the bed of 8000 at 200 steps a minute, checkpoints every 2000
+    # steps, reports every 10 minutes) shows the same step twice. That window is no pace of
+    # 0 and no warning; the next step seen ends a window over both reports.
+    from campaign_lib.pace import Pace
+    pace = Pace()
+    pace.add(0.0, 8000)
+    pace.add(600.0, 10_000)                                             # 200 steps a minute
+    assert "200 steps a minute" in pace.text(total=14_570, left_seconds=7200.0)
+    pace.add(1200.0, 10_000)                                            # no checkpoint since
+    same = pace.text(total=14_570, left_seconds=7200.0)
+    assert "no step written since the last report" in same and "WARNING" not in same and "0 steps" not in same
+    assert len(pace.marks) == 2
+    pace.add(1800.0, 14_000)                                            # 4000 steps over 20 minutes
+    after = pace.text(total=14_570, left_seconds=7200.0)
+    assert "200 steps a minute" in after and "WARNING" not in after
+
+
 def test_the_engine_runs_in_the_campaigns_session_in_a_process_group_of_its_own():
     # An engine in a session of its own ran at about a ninth of its pace beside a nice-19
     # job (docs/performance.md, nineteenth installment).
