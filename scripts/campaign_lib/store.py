@@ -5,14 +5,13 @@ provenance.json, written last, so a folder without it is not a stored run
 from __future__ import annotations
 
 import csv
-import hashlib
 import io
 import json
 import re
 from dataclasses import dataclass
 from pathlib import Path
 
-from common.fsutil import write_atomic
+from common.fsutil import write_marked_folder
 
 from .engine import same_engine
 from .golden import passes_of, same_golden_pass
@@ -110,22 +109,10 @@ def store(results: Path, run: Run, run_dir: Path, provenance: dict) -> Path:
     """Copies the run's small files and writes provenance.json last. A stale result there
     is replaced: its provenance goes first, so the folder never looks complete meanwhile."""
     folder = folder_of(results, run)
-    (folder / PROVENANCE).unlink(missing_ok=True)
-    files, omitted = {}, []
     kept = [(path.name, path.read_bytes()) for path in sorted(run_dir.iterdir())
             if path.is_file() and KEEP.match(path.name)]
     series = volume_series(run_dir / "timeseries.csv")
     if series is not None:
         kept.append((VOLUME_FILE, series))
-    for name, data in kept:
-        if len(data) > MAX_BYTES:
-            omitted.append({"file": name, "bytes": len(data), "why": f"larger than {MAX_BYTES} bytes"})
-            continue
-        write_atomic(folder / name, data)
-        files[name] = {"bytes": len(data), "sha256": hashlib.sha256(data).hexdigest()}
-    for old in folder.iterdir():
-        if old.is_file() and old.name not in files and old.name != PROVENANCE:
-            old.unlink()
-    write_atomic(folder / PROVENANCE, json.dumps({**provenance, "files": files, "omitted": omitted},
-                                                 indent=1, sort_keys=True) + "\n")
+    write_marked_folder(folder, kept, PROVENANCE, provenance, MAX_BYTES)
     return folder

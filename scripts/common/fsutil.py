@@ -8,13 +8,17 @@ so the package and the harness share one implementation.
 
 from __future__ import annotations
 
+import hashlib
 import io
+import json
 import os
+from pathlib import Path
 
 from common import paths  # noqa: F401  (puts this checkout's package `ratchet` on sys.path)
 from ratchet.files import write_atomic
 
-__all__ = ["write_atomic", "write_csv_atomic", "FIGURE_FORMATS", "figure_format", "save_figure_atomic"]
+__all__ = ["write_atomic", "write_csv_atomic", "write_marked_folder", "FIGURE_FORMATS", "figure_format",
+           "save_figure_atomic"]
 
 
 def write_csv_atomic(df, path: str | os.PathLike, **kwargs) -> None:
@@ -23,6 +27,30 @@ def write_csv_atomic(df, path: str | os.PathLike, **kwargs) -> None:
     kwargs.setdefault("index", False)
     kwargs.setdefault("float_format", "%.17g")
     write_atomic(path, df.to_csv(**kwargs))
+
+
+def write_marked_folder(folder: Path, items, marker: str, record: dict, max_bytes: int) -> dict:
+    """Replaces the files of `folder` by `items` ((name, bytes) pairs, each written atomically;
+    one larger than max_bytes is left out and named) and writes `marker` last: `record` with
+    each file's size and SHA-256 ("files") and the omitted ones ("omitted"). The old marker
+    goes first, so a folder whose marker says it is complete never holds a mix (a campaign's
+    stored run, compare-settings' kept run). Returns what the marker holds."""
+    folder = Path(folder)
+    (folder / marker).unlink(missing_ok=True)
+    folder.mkdir(parents=True, exist_ok=True)
+    files, omitted = {}, []
+    for name, data in items:
+        if len(data) > max_bytes:
+            omitted.append({"file": name, "bytes": len(data), "why": f"larger than {max_bytes} bytes"})
+            continue
+        write_atomic(folder / name, data)
+        files[name] = {"bytes": len(data), "sha256": hashlib.sha256(data).hexdigest()}
+    for old in folder.iterdir():
+        if old.is_file() and old.name not in files and old.name != marker:
+            old.unlink()
+    content = {**record, "files": files, "omitted": omitted}
+    write_atomic(folder / marker, json.dumps(content, indent=1, sort_keys=True) + "\n")
+    return content
 
 
 #: Figure file formats by extension (matplotlib's names); the extension alone decides.
