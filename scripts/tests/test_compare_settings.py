@@ -233,11 +233,19 @@ def test_runs_are_kept_and_committed_as_they_complete_and_read_back(done, tmp_pa
             record = json.loads((kept / "kept.json").read_text())
             assert (record["setting"], record["seed"]) == (n, s)
             assert record["engine"] == json.loads((out / "runs" / f"{n}-s{s}" / "run.json").read_text())["engine"]
-            # What was kept is the run's files byte for byte; bodies and shapes are not kept.
-            assert set(record["files"]) >= {"run.json", "cycles.csv", "timeseries.csv"}
+            # What was kept is the run's files byte for byte, of the timeseries the three
+            # columns the table reads with their text unchanged; bodies and shapes are not kept.
+            made = out / "runs" / f"{n}-s{s}"
+            assert set(record["files"]) >= {"run.json", "cycles.csv", "solver_steps.csv"}
             for name, entry in record["files"].items():
-                assert (kept / name).read_bytes() == (out / "runs" / f"{n}-s{s}" / name).read_bytes()
-            assert not (kept / "bodies.csv").exists() and (out / "runs" / f"{n}-s{s}" / "bodies.csv").exists()
+                if name != "solver_steps.csv":
+                    assert (kept / name).read_bytes() == (made / name).read_bytes()
+            series = pd.read_csv(made / "timeseries.csv", dtype=str, keep_default_na=False)
+            steps = pd.read_csv(kept / "solver_steps.csv", dtype=str, keep_default_na=False)
+            assert list(steps.columns) == ["step", "iterations", "max_overlap"]
+            assert steps.equals(series[["step", "iterations", "max_overlap"]])
+            assert not (kept / "timeseries.csv").exists() and not (kept / "bodies.csv").exists()
+            assert (made / "bodies.csv").exists()
     log = subprocess.run(["git", "-C", str(repo), "log", "--format=%s"], capture_output=True, text=True).stdout
     assert log.count("kept (engine ") == 4 and "soft-s2 kept" in log.splitlines()[0]  # the run made here, last
     assert subprocess.run(["git", "-C", str(repo), "status", "--porcelain", "kept"], capture_output=True,
