@@ -1,0 +1,153 @@
+"""The side-wall stress against depth in a bed, read as Janssen's balance, whose sign says
+whether the wall friction holds the grains up or pushes them down.
+
+Janssen (1895; translated and discussed by Sperl, Granular Matter 8 (2006) 59-65): in a
+column of radius R the mean vertical stress at depth d obeys
+dσ_v/dd = γ - (2 μ_w K / R) σ_v when the wall friction carries part of the weight (a
+settled bed), K = σ_w / σ_v the ratio of the wall's normal stress to the vertical one,
+μ_w the mobilised wall friction, γ the bed's weight per volume. When the container
+shrinks onto the bed and pushes the grains up its wall (the end of cooling at
+α_c > α_p), the wall friction acts downward on them and the sign turns. Both cases are
+
+    σ_w(d) = A (e^{a d} - 1) / a,    A = K γ,  a = ±2 μ_w K / R,
+
+a > 0: the stress grows faster than the weight with depth (friction against an upward
+motion), a < 0: it saturates (Janssen's silo), a = 0: hydrostatic. fit_profile fits the
+band-averaged form to a wall_profile.csv profile (each band's stress is a time average
+over the band's wall area, docs/output-format.md). If the squeeze's stress comes from this
+balance with the same μ_w K at every width, a R is the same at every width and the
+narrower bed's stress grows faster with depth.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+from scipy.optimize import curve_fit
+
+PROFILE_FILE = "wall_profile.csv"
+PROFILE_COLUMNS = ("cycle", "bin", "z_lo", "z_hi", "wall_stress")
+#: Fewer bands than this leave the two parameters without a residual to judge them by.
+MIN_BANDS = 4
+
+
+class ProfileError(ValueError):
+    """A run folder whose profile cannot be read; the message names the file and field."""
+
+
+@dataclass
+class Profile:
+    folder: Path
+    radius: float              # the container's bottom radius (run.json's effective scene)
+    table: pd.DataFrame        # wall_profile.csv
+
+    def cycles(self) -> list[int]:
+        return sorted(int(c) for c in self.table["cycle"].unique())
+
+    def bands(self, cycle: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(depth of each band's top, depth of its bottom, its stress), depth from the bed
+        height H (the top band's upper limit) down."""
+        rows = self.table[self.table["cycle"] == cycle].sort_values("bin")
+        height = float(rows["z_hi"].max())
+        return (height - rows["z_hi"].to_numpy(float), height - rows["z_lo"].to_numpy(float),
+                rows["wall_stress"].to_numpy(float))
+
+
+@dataclass
+class DepthFit:
+    cycle: int
+    radius: float
+    height: float
+    amplitude: float           # A = K γ, the stress gradient at the top
+    amplitude_se: float
+    rate: float                # a, per length (positive: growth, negative: saturation)
+    rate_se: float
+    rms_residual: float        # of the band stresses, in stress units
+    mean_stress: float         # the bands' mean (each band the same height)
+
+    @property
+    def rate_times_radius(self) -> float:
+        return self.rate * self.radius
+
+    def to_dict(self) -> dict:
+        return {"cycle": self.cycle, "radius": self.radius, "height": self.height,
+                "amplitude": self.amplitude, "amplitude_se": self.amplitude_se,
+                "rate": self.rate, "rate_se": self.rate_se, "rate_times_radius": self.rate_times_radius,
+                "rate_times_radius_se": self.rate_se * self.radius, "rms_residual": self.rms_residual,
+                "mean_stress": self.mean_stress}
+
+
+def read_profile(folder: Path) -> Profile:
+    """The run's wall_profile.csv and its container radius; ProfileError naming the file
+    and field otherwise."""
+    folder = Path(folder)
+    path = folder / PROFILE_FILE
+    if not path.is_file():
+        raise ProfileError(f"{path}: no such file (a run writes it with outputs.wall_profile_bins > 0)")
+    try:
+        table = pd.read_csv(path, float_precision="round_trip")
+    except (OSError, ValueError, pd.errors.ParserError, pd.errors.EmptyDataError) as e:
+        raise ProfileError(f"{path}: not a readable CSV ({e})") from None
+    missing = [c for c in PROFILE_COLUMNS if c not in table.columns]
+    if missing:
+        raise ProfileError(f"{path}: expected the columns {', '.join(PROFILE_COLUMNS)}; missing {', '.join(missing)}")
+    if table.empty:
+        raise ProfileError(f"{path}: no rows (the container is not a cone, or no cycle ended)")
+    run_json = folder / "run.json"
+    try:
+        scene = json.loads(run_json.read_text()).get("effective_scene") or {}
+        radius = float(scene["container"]["bottom_radius"])
+    except (OSError, ValueError) as e:
+        raise ProfileError(f"{run_json}: not readable ({e})") from None
+    except (KeyError, TypeError):
+        raise ProfileError(f"{run_json}: field 'effective_scene.container.bottom_radius': expected a number "
+                           "(the run's cone)") from None
+    return Profile(folder=folder, radius=radius, table=table)
+
+
+def _grown(x: np.ndarray) -> np.ndarray:
+    """(e^x - 1 - x) / x², with its series where the closed form would lose digits."""
+    x = np.asarray(x, float)
+    small = np.abs(x) < 1e-2
+    safe = np.where(small, 1.0, x)
+    series = 0.5 + x / 6.0 + x * x / 24.0 + x ** 3 / 120.0 + x ** 4 / 720.0  # next term below 2e-15 of it
+    return np.where(small, series, (np.expm1(safe) - safe) / (safe * safe))
+
+
+def band_mean(top: np.ndarray, bottom: np.ndarray, amplitude: float, rate: float) -> np.ndarray:
+    """The mean of A (e^{a d} - 1)/a over each band [top, bottom] of depth: the integral
+    from 0 to d is A d² g(a d), g(x) = (e^x - 1 - x)/x², finite and smooth through a = 0
+    (the hydrostatic A d²/2)."""
+    top, bottom = np.asarray(top, float), np.asarray(bottom, float)
+    integral = bottom ** 2 * _grown(rate * bottom) - top ** 2 * _grown(rate * top)
+    return amplitude * integral / (bottom - top)
+
+
+def fit_profile(profile: Profile, cycle: int) -> DepthFit:
+    """Least squares of the band-averaged form to the cycle's bands (scipy's curve_fit;
+    standard errors from its covariance, scaled by the residual)."""
+    if cycle not in profile.cycles():
+        raise ProfileError(f"{profile.folder / PROFILE_FILE}: field 'cycle': no rows of cycle {cycle} "
+                           f"(it has {profile.cycles()})")
+    top, bottom, stress = profile.bands(cycle)
+    if len(stress) < MIN_BANDS:
+        raise ProfileError(f"{profile.folder / PROFILE_FILE}: cycle {cycle} has {len(stress)} bands; "
+                           f"a fit needs at least {MIN_BANDS} (outputs.wall_profile_bins)")
+    height = float(bottom.max())
+    slope = max(float(stress.mean()) / (0.5 * height), 1e-12)  # the hydrostatic A with the same mean
+
+    def model(_, amplitude, rate):
+        return band_mean(top, bottom, amplitude, rate)
+
+    (amplitude, rate), covariance = curve_fit(model, np.zeros_like(stress), stress, p0=(slope, 0.0),
+                                              maxfev=10000)
+    se = np.sqrt(np.diag(covariance)) if np.all(np.isfinite(covariance)) else (math.nan, math.nan)
+    residual = stress - band_mean(top, bottom, amplitude, rate)
+    return DepthFit(cycle=cycle, radius=profile.radius, height=height, amplitude=float(amplitude),
+                    amplitude_se=float(se[0]), rate=float(rate), rate_se=float(se[1]),
+                    rms_residual=float(np.sqrt(np.mean(residual ** 2))), mean_stress=float(stress.mean()))

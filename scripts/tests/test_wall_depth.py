@@ -1,0 +1,128 @@
+"""Tests of scripts/analysis/wall_depth.py and scripts/wall-stress-depth on synthetic
+profiles: the growth rate of a profile made from Janssen's form is recovered with its
+sign (growth, saturation, hydrostatic), a R pools runs of one width, and bad inputs are
+refused before anything is written.
+
+Run with Debian's interpreter: /usr/bin/python3 -m pytest -q scripts/tests/test_wall_depth.py
+"""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+from scipy.integrate import quad
+
+SCRIPTS = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(SCRIPTS))
+
+from analysis import wall_depth  # noqa: E402
+from analysis.wall_depth_cli import by_radius, main  # noqa: E402
+
+TOOL = SCRIPTS / "wall-stress-depth"
+H, BANDS = 15.0, 10
+
+
+def write(folder: Path, amplitude: float, rate: float, radius: float = 8.5, noise: float = 0.0, seed: int = 0,
+          cycles=(0,)) -> Path:
+    """A run folder whose wall_profile.csv holds Janssen's form averaged over each band
+    (by quadrature, not by the module's closed form), plus normal noise of `noise` times
+    the hydrostatic mean A H / 2 in every band (the fit's error bars assume one scatter)."""
+    rng = np.random.default_rng(seed)
+    folder.mkdir(parents=True, exist_ok=True)
+    rows = []
+    for cycle in cycles:
+        for b in range(BANDS):
+            z_lo, z_hi = b * H / BANDS, (b + 1) * H / BANDS
+            d1, d2 = H - z_hi, H - z_lo
+            mean = quad(lambda d: amplitude * (d if rate == 0 else np.expm1(rate * d) / rate), d1, d2)[0] / (d2 - d1)
+            rows.append({"cycle": cycle, "t": 30.0 * (cycle + 1), "bin": b, "z_lo": z_lo, "z_hi": z_hi,
+                         "wall_stress": mean + noise * amplitude * H / 2 * rng.normal()})
+    pd.DataFrame(rows).to_csv(folder / "wall_profile.csv", index=False)
+    (folder / "run.json").write_text(json.dumps({"status": "completed",
+                                                 "effective_scene": {"container": {"bottom_radius": radius}}}))
+    return folder
+
+
+@pytest.mark.parametrize("rate", [0.25, 0.05, 0.0, -0.15])
+def test_the_rate_of_an_exact_profile_is_recovered(tmp_path, rate):
+    fit = wall_depth.fit_profile(wall_depth.read_profile(write(tmp_path, 1.7, rate)), 0)
+    # Exact data: only the quadrature's and the optimiser's round-off remain.
+    assert fit.rate == pytest.approx(rate, abs=1e-6)
+    assert fit.amplitude == pytest.approx(1.7, rel=1e-6)
+    assert fit.height == pytest.approx(H) and fit.rms_residual < 1e-6
+
+
+def test_a_noisy_profile_gives_the_rate_within_its_error_and_the_right_sign(tmp_path):
+    hits = 0
+    for seed in range(20):
+        fit = wall_depth.fit_profile(wall_depth.read_profile(write(tmp_path / str(seed), 2.0, 0.2, noise=0.05,
+                                                                   seed=seed)), 0)
+        assert fit.rate > 0 and fit.rate_se > 0
+        hits += abs(fit.rate - 0.2) < 2 * fit.rate_se
+    # Two standard errors hold about 92 % of the fits (Student's t with 8 degrees of
+    # freedom); fewer than 15 of 20 has a probability of 0.004 when the error bar is right.
+    assert hits >= 15
+
+
+def test_a_rate_times_radius_pools_runs_of_one_width(tmp_path):
+    fits = [wall_depth.fit_profile(wall_depth.read_profile(write(tmp_path / name, 1.0, 2.0 / radius,
+                                                                 radius=radius)), 0)
+            for name, radius in (("a", 4.0), ("b", 4.0), ("c", 8.0))]
+    groups = by_radius(fits)
+    assert list(groups) == [4.0, 8.0]
+    assert groups[4.0]["runs"] == 2 and groups[4.0]["rate_times_radius"] == pytest.approx(2.0, abs=1e-5)
+    assert groups[8.0]["se"] is None and groups[8.0]["rate_times_radius"] == pytest.approx(2.0, abs=1e-5)
+
+
+def run_tool(*args):
+    return subprocess.run(["/usr/bin/python3", str(TOOL), *map(str, args)], capture_output=True, text=True)
+
+
+def test_the_tool_writes_its_table_figure_and_json(tmp_path):
+    narrow = write(tmp_path / "narrow", 1.0, 0.3, radius=4.25)
+    wide = write(tmp_path / "wide", 1.0, 0.15, radius=8.5)
+    out = tmp_path / "out"
+    r = run_tool(f"n={narrow}", f"w={wide}", "--out", out)
+    assert r.returncode == 0, r.stderr
+    result = json.loads((out / "wall_depth.json").read_text())
+    assert result["runs"]["n"]["rate"] == pytest.approx(0.3, abs=1e-5)
+    assert result["runs"]["w"]["rate_times_radius"] == pytest.approx(0.15 * 8.5, abs=1e-4)
+    assert set(result["by_radius"]) == {"4.25", "8.5"}
+    table = (out / "wall_depth.md").read_text()
+    assert "| n | 4.25 |" in table and "| w | 8.5 |" in table
+    assert (out / "figures" / "wall_depth.png").stat().st_size > 10_000
+    assert "n: R 4.25, a = +0.3000" in r.stdout
+
+
+@pytest.mark.parametrize("damage, expected", [
+    ("no_profile", "wall_profile.csv: no such file"),
+    ("no_radius", "field 'effective_scene.container.bottom_radius'"),
+    ("no_column", "missing wall_stress"),
+    ("cycle", "field 'cycle': no rows of cycle 3"),
+    ("few_bands", "a fit needs at least 4"),
+])
+def test_bad_inputs_are_refused_before_anything_is_written(tmp_path, capsys, damage, expected):
+    run = write(tmp_path / "run", 1.0, 0.1)
+    args = []
+    if damage == "no_profile":
+        (run / "wall_profile.csv").unlink()
+    elif damage == "no_radius":
+        (run / "run.json").write_text(json.dumps({"effective_scene": {"container": {}}}))
+    elif damage == "no_column":
+        pd.read_csv(run / "wall_profile.csv").drop(columns="wall_stress").to_csv(run / "wall_profile.csv", index=False)
+    elif damage == "cycle":
+        args = ["--cycle", 3]
+    else:
+        table = pd.read_csv(run / "wall_profile.csv")
+        table[table["bin"] < 3].to_csv(run / "wall_profile.csv", index=False)
+    out = tmp_path / "out"
+    assert main([str(run), "--out", str(out), *map(str, args)]) == 2
+    err = capsys.readouterr().err
+    assert expected in err and str(run) in err
+    assert not out.exists()
