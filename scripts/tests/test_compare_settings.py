@@ -248,6 +248,13 @@ def test_runs_are_kept_and_committed_as_they_complete_and_read_back(done, tmp_pa
             assert (made / "bodies.csv").exists()
     log = subprocess.run(["git", "-C", str(repo), "log", "--format=%s"], capture_output=True, text=True).stdout
     assert log.count("kept (engine ") == 4 and "soft-s2 kept" in log.splitlines()[0]  # the run made here, last
+    # The engine is named as the campaign names it: the last commit of its sources when the
+    # build is theirs (a clean clone), else the build's HEAD, said so.
+    from campaign_lib.engine import identify
+    engine = identify(RATCHET)
+    named = engine.commit[:10] if not engine.dirty else json.loads(
+        (out / "runs" / "soft-s2" / "run.json").read_text())["engine"]["commit"][:10] + " (build HEAD)"
+    assert f"soft-s2 kept (engine {named})" in log.splitlines()[0], (named, log)
     assert subprocess.run(["git", "-C", str(repo), "status", "--porcelain", "kept"], capture_output=True,
                           text=True).stdout == ""
     first = json.loads((out / "comparison.json").read_text())
