@@ -17,6 +17,15 @@ band-averaged form to a wall_profile.csv profile (each band's stress is a time a
 over the band's wall area, docs/output-format.md). If the squeeze's stress comes from this
 balance with the same μ_w K at every width, a R is the same at every width and the
 narrower bed's stress grows faster with depth.
+
+The same balance says how the mean wall pressure over the bed's height H falls with the
+width: the mean of σ_w over [0, H] is A H g(a H), g(x) = (e^x - 1 - x)/x², so at one
+height and one μ_w K (c = 2 μ_w K = a R)
+
+    P(R) = A H g(c H / R).
+
+fit_widths fits A and c to the cycle's peak pressures of beds of several widths: a second
+measure of c, from the peaks during cooling rather than from the profile of the cold hold.
 """
 
 from __future__ import annotations
@@ -98,16 +107,36 @@ def read_profile(folder: Path) -> Profile:
         raise ProfileError(f"{path}: expected the columns {', '.join(PROFILE_COLUMNS)}; missing {', '.join(missing)}")
     if table.empty:
         raise ProfileError(f"{path}: no rows (the container is not a cone, or no cycle ended)")
-    run_json = folder / "run.json"
+    return Profile(folder=folder, radius=read_radius(folder), table=table)
+
+
+def read_radius(folder: Path) -> float:
+    """The container's bottom radius of the run (run.json's effective scene)."""
+    run_json = Path(folder) / "run.json"
     try:
         scene = json.loads(run_json.read_text()).get("effective_scene") or {}
-        radius = float(scene["container"]["bottom_radius"])
+        return float(scene["container"]["bottom_radius"])
     except (OSError, ValueError) as e:
         raise ProfileError(f"{run_json}: not readable ({e})") from None
     except (KeyError, TypeError):
         raise ProfileError(f"{run_json}: field 'effective_scene.container.bottom_radius': expected a number "
                            "(the run's cone)") from None
-    return Profile(folder=folder, radius=radius, table=table)
+
+
+def read_peak(folder: Path, cycle: int) -> float:
+    """The cycle's peak pressure (cycles.csv, docs/output-format.md)."""
+    path = Path(folder) / "cycles.csv"
+    try:
+        table = pd.read_csv(path, float_precision="round_trip")
+    except (OSError, ValueError, pd.errors.ParserError, pd.errors.EmptyDataError) as e:
+        raise ProfileError(f"{path}: not a readable CSV ({e})") from None
+    if "cycle" not in table.columns or "peak_pressure" not in table.columns:
+        raise ProfileError(f"{path}: expected the columns cycle and peak_pressure")
+    rows = table[table["cycle"] == cycle]
+    if rows.empty:
+        raise ProfileError(f"{path}: field 'cycle': no row of cycle {cycle} (it has "
+                           f"{sorted(int(c) for c in table['cycle'])})")
+    return float(rows["peak_pressure"].iloc[0])
 
 
 def _grown(x: np.ndarray) -> np.ndarray:
@@ -151,3 +180,46 @@ def fit_profile(profile: Profile, cycle: int) -> DepthFit:
     return DepthFit(cycle=cycle, radius=profile.radius, height=height, amplitude=float(amplitude),
                     amplitude_se=float(se[0]), rate=float(rate), rate_se=float(se[1]),
                     rms_residual=float(np.sqrt(np.mean(residual ** 2))), mean_stress=float(stress.mean()))
+
+
+@dataclass
+class WidthFit:
+    height: float              # the common bed height the fit assumes
+    amplitude: float           # A
+    amplitude_se: float
+    c: float                   # 2 μ_w K, the growth rate times the radius
+    c_se: float
+    radii: list[float]
+    pressures: list[float]
+    predicted: list[float]
+
+    def to_dict(self) -> dict:
+        return {"height": self.height, "amplitude": self.amplitude, "amplitude_se": self.amplitude_se,
+                "c": self.c, "c_se": self.c_se, "radii": self.radii, "pressures": self.pressures,
+                "predicted": self.predicted}
+
+
+def mean_pressure(radius, height: float, amplitude: float, c: float) -> np.ndarray:
+    """A H g(c H / R): the mean of A (e^{a d} - 1)/a over [0, H] at a = c / R."""
+    radius = np.asarray(radius, float)
+    return amplitude * height * _grown(c * height / radius)
+
+
+def fit_widths(radii, pressures, height: float) -> WidthFit:
+    """Least squares of log P(R) (the peaks span more than a decade, and their scatter
+    between realizations is a share of their size) for A and c."""
+    radii, pressures = np.asarray(radii, float), np.asarray(pressures, float)
+    if len(set(radii.tolist())) < 3:
+        raise ProfileError(f"a fit of the peak pressure against the width needs beds of at least 3 widths; "
+                           f"got the radii {sorted(set(radii.tolist()))}")
+
+    def model(r, log_amplitude, c):
+        return np.log(mean_pressure(r, height, math.exp(log_amplitude), c))
+
+    start = math.log(float(np.min(pressures)) / (0.5 * height))
+    (log_amplitude, c), covariance = curve_fit(model, radii, np.log(pressures), p0=(start, 0.5), maxfev=10000)
+    se = np.sqrt(np.diag(covariance)) if np.all(np.isfinite(covariance)) else (math.nan, math.nan)
+    amplitude = math.exp(log_amplitude)
+    return WidthFit(height=height, amplitude=amplitude, amplitude_se=float(amplitude * se[0]), c=float(c),
+                    c_se=float(se[1]), radii=radii.tolist(), pressures=pressures.tolist(),
+                    predicted=mean_pressure(radii, height, amplitude, c).tolist())

@@ -1,9 +1,9 @@
 """Command line of scripts/wall-stress-depth: Janssen's balance fitted to runs' side-wall
-stress profiles (analysis/wall_depth.py), as OUT/wall_depth.md, OUT/wall_depth.json and
-OUT/figures/wall_depth.png.
+stress profiles and to their peak pressures against the width (analysis/wall_depth.py),
+as OUT/wall_depth.md, OUT/wall_depth.json and OUT/figures/wall_depth.png.
 
-Exit status: 0 written; 2 a bad option, a run folder without a readable wall_profile.csv
-or run.json, or a cycle it does not have (nothing is written then).
+Exit status: 0 written; 2 a bad option, a run folder without a readable cycles.csv or
+run.json, a broken wall_profile.csv, or a cycle it does not have (nothing is written then).
 """
 
 from __future__ import annotations
@@ -11,6 +11,7 @@ from __future__ import annotations
 import argparse
 import math
 import sys
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Sequence
 
@@ -27,6 +28,16 @@ from common.jsonsafe import dumps  # noqa: E402
 from . import wall_depth  # noqa: E402
 
 
+@dataclass
+class Run:
+    label: str
+    folder: Path
+    radius: float
+    peak: float                                   # the cycle's peak pressure (cycles.csv)
+    profile: wall_depth.Profile | None = None     # None: the run wrote no wall_profile.csv
+    fit: wall_depth.DepthFit | None = None
+
+
 def _parse(argv: Sequence[str] | None) -> argparse.Namespace:
     parser = argparse.ArgumentParser(
         prog="wall-stress-depth",
@@ -34,29 +45,42 @@ def _parse(argv: Sequence[str] | None) -> argparse.Namespace:
                     "profile of each run (wall_profile.csv, outputs.wall_profile_bins) and gives the "
                     "growth rate a with depth (a > 0: the wall friction pushes the grains down, as "
                     "when the container shrinks onto the bed; a < 0: it holds them up, Janssen's "
-                    "silo) and a R, the same at every width if one μ_w K sets the balance "
+                    "silo) and a R, the same at every width if one μ_w K sets the balance. With beds "
+                    "of 3 or more widths, also fits the balance's mean wall pressure A H g(c H / R) "
+                    "to the cycle's peak pressures (cycles.csv), a second measure of c = a R "
                     "(analysis/wall_depth.py). Writes OUT/wall_depth.md, OUT/wall_depth.json and "
                     "OUT/figures/wall_depth.png.",
-        epilog="Exit status: 0 written; 2 bad option, unreadable profile or run.json, or a missing cycle.")
+        epilog="Exit status: 0 written; 2 bad option, unreadable cycles.csv, run.json or profile, "
+               "or a missing cycle.")
     parser.add_argument("runs", nargs="+", metavar="[LABEL=]DIR",
-                        help="a run folder with wall_profile.csv and run.json (a stored campaign run's "
-                             "folder will do), optionally labelled")
+                        help="a run folder with cycles.csv and run.json, and wall_profile.csv for the "
+                             "depth fit (a stored campaign run's folder will do), optionally labelled")
     parser.add_argument("--cycle", type=int, default=0, metavar="K",
-                        help="the cycle whose cold-hold profile is fitted (default 0)")
+                        help="the cycle whose cold-hold profile and peak pressure are used (default 0)")
+    parser.add_argument("--height", type=float, metavar="H",
+                        help="the bed height of the width fit (default: the mean of the profiles' "
+                             "heights; the beds are meant to share one height)")
     parser.add_argument("--out", required=True, metavar="OUT", help="output folder")
-    return parser.parse_args(argv)
+    args = parser.parse_args(argv)
+    if args.height is not None and not (math.isfinite(args.height) and args.height > 0):
+        parser.error(f"--height: expected a positive bed height, got {args.height}")
+    return args
 
 
-def _read(specs: Sequence[str], cycle: int) -> list[tuple[str, wall_depth.Profile, wall_depth.DepthFit]]:
+def _read(specs: Sequence[str], cycle: int) -> list[Run]:
     out = []
     for spec in specs:
-        label, _, folder = spec.rpartition("=")
-        label = label or Path(folder).name
+        label, _, name = spec.rpartition("=")
+        folder = Path(name)
         try:
-            profile = wall_depth.read_profile(Path(folder))
-            out.append((label, profile, wall_depth.fit_profile(profile, cycle)))
+            run = Run(label=label or folder.name, folder=folder, radius=wall_depth.read_radius(folder),
+                      peak=wall_depth.read_peak(folder, cycle))
+            if (folder / wall_depth.PROFILE_FILE).exists():
+                run.profile = wall_depth.read_profile(folder)
+                run.fit = wall_depth.fit_profile(run.profile, cycle)
         except wall_depth.ProfileError as e:
             raise SystemExit(f"wall-stress-depth: {e}")
+        out.append(run)
     return out
 
 
@@ -73,49 +97,101 @@ def by_radius(fits: list[wall_depth.DepthFit]) -> dict[float, dict]:
     return out
 
 
-def _figure(runs, cycle: int):
-    fig, (left, right) = plt.subplots(1, 2, figsize=(11.5, 4.8))
-    for label, profile, fit in runs:
-        top, bottom, stress = profile.bands(cycle)
-        middle = 0.5 * (top + bottom)
-        line, = left.plot(stress, middle, "o", ms=4, label=f"{label} (R = {fit.radius:g})")
-        depth = np.linspace(0.0, fit.height, 200)
-        curve = wall_depth.band_mean(np.maximum(depth - 1e-6, 0.0), depth + 1e-6, fit.amplitude, fit.rate)
+def profiles_c(fits: list[wall_depth.DepthFit]) -> tuple[float, float | None]:
+    """The mean of a R over the profiled runs and its standard error (None from one run)."""
+    x = np.array([f.rate_times_radius for f in fits])
+    return float(x.mean()), (float(x.std(ddof=1) / math.sqrt(len(x))) if len(x) > 1 else None)
+
+
+def _width_fit(runs: list[Run], height: float | None) -> wall_depth.WidthFit | None:
+    if len({r.radius for r in runs}) < 3:
+        return None
+    heights = [r.fit.height for r in runs if r.fit is not None]
+    if height is None and not heights:
+        raise SystemExit("wall-stress-depth: --height: no run has a profile to take the bed height from; "
+                         "give it")
+    try:
+        return wall_depth.fit_widths([r.radius for r in runs], [r.peak for r in runs],
+                                     height if height is not None else float(np.mean(heights)))
+    except wall_depth.ProfileError as e:
+        raise SystemExit(f"wall-stress-depth: {e}")
+
+
+def _figure(runs: list[Run], cycle: int, widths: wall_depth.WidthFit | None):
+    fig, (left, middle, right) = plt.subplots(1, 3, figsize=(16.0, 4.8))
+    fitted = [r for r in runs if r.fit is not None]
+    for r in fitted:
+        top, bottom, stress = r.profile.bands(cycle)
+        line, = left.plot(stress, 0.5 * (top + bottom), "o", ms=4, label=f"{r.label} (R = {r.radius:g})")
+        depth = np.linspace(1e-6, r.fit.height, 200)
+        # The form itself at each depth (the band mean of a vanishing band).
+        curve = wall_depth.band_mean(depth - 1e-6, depth + 1e-6, r.fit.amplitude, r.fit.rate)
         left.plot(curve, depth, "-", color=line.get_color(), lw=1)
     left.invert_yaxis()
     left.set_xlabel("side-wall stress σ_w (cold hold)")
     left.set_ylabel("depth below the bed's top d")
-    left.legend(fontsize=7)
+    if fitted:
+        left.legend(fontsize=7)
     left.set_title("profiles (points) and A (e^{a d} - 1)/a (lines)", fontsize=9)
-    radii = [fit.radius for _, _, fit in runs]
-    products = [fit.rate_times_radius for _, _, fit in runs]
-    errors = [fit.rate_se * fit.radius for _, _, fit in runs]
-    right.errorbar(radii, products, yerr=errors, fmt="o", capsize=3)
-    right.axhline(0.0, color="k", lw=0.8)
+    middle.errorbar([r.radius for r in fitted], [r.fit.rate_times_radius for r in fitted],
+                    yerr=[r.fit.rate_se * r.radius for r in fitted], fmt="o", capsize=3, label="a R, each profile")
+    if widths is not None:
+        middle.axhspan(widths.c - widths.c_se, widths.c + widths.c_se, color="C1", alpha=0.25,
+                       label=f"c from the peaks: {widths.c:.2f} ± {widths.c_se:.2f}")
+    middle.axhline(0.0, color="k", lw=0.8)
+    middle.set_xlabel("container bottom radius R")
+    middle.set_ylabel("a R = 2 μ_w K")
+    middle.legend(fontsize=7)
+    middle.set_title("growth rate times radius (fit's standard error)", fontsize=9)
+    right.plot([r.radius for r in runs], [r.peak for r in runs], "o", label="each run")
+    if widths is not None:
+        grid = np.linspace(min(widths.radii) * 0.8, max(widths.radii) * 1.2, 200)
+        right.plot(grid, wall_depth.mean_pressure(grid, widths.height, widths.amplitude, widths.c), "-",
+                   label=f"A H g(c H / R), H = {widths.height:.2f}")
+    right.set_xscale("log")
+    right.set_yscale("log")
     right.set_xlabel("container bottom radius R")
-    right.set_ylabel("a R (one value at every width: the balance's μ_w K)")
-    right.set_title("growth rate times radius, each run (fit's standard error)", fontsize=9)
-    fig.suptitle(f"Side-wall stress against depth, cycle {cycle}", fontsize=11)
+    right.set_ylabel(f"peak wall pressure of cycle {cycle}")
+    right.legend(fontsize=7)
+    right.set_title("peak pressure against the width", fontsize=9)
+    fig.suptitle(f"Side-wall stress against depth and width, cycle {cycle}", fontsize=11)
     fig.tight_layout()
     return fig
 
 
-def _markdown(runs, cycle: int, groups: dict) -> str:
-    lines = [f"# Side-wall stress against depth, cycle {cycle}", "",
-             "Fitted σ_w(d) = A (e^{a d} - 1)/a to the cold-hold profile's bands (band means; "
+def _markdown(runs: list[Run], cycle: int, widths: wall_depth.WidthFit | None) -> str:
+    lines = [f"# Side-wall stress against depth and width, cycle {cycle}", "",
+             "σ_w(d) = A (e^{a d} - 1)/a fitted to each cold-hold profile's bands (band means; "
              "scripts/analysis/wall_depth.py says why): a > 0 the stress grows faster than the "
              "weight (wall friction pushing the grains down), a < 0 it saturates (Janssen's silo). "
              "± is the fit's standard error.", "",
-             "| run | R | H | mean σ_w | A | a | a R | rms residual |", "|---|---|---|---|---|---|---|---|"]
-    for label, _, f in runs:
-        lines.append(f"| {label} | {f.radius:g} | {f.height:.2f} | {f.mean_stress:.3g} | {f.amplitude:.3g} "
-                     f"± {f.amplitude_se:.2g} | {f.rate:+.4f} ± {f.rate_se:.4f} | {f.rate_times_radius:+.3f} "
-                     f"± {f.rate_se * f.radius:.3f} | {f.rms_residual:.3g} |")
-    lines += ["", "| R | runs | a R, mean over runs |", "|---|---|---|"]
-    for radius, g in groups.items():
-        se = f" ± {g['se']:.3f}" if g["se"] is not None else " (one run)"
-        lines.append(f"| {radius:g} | {g['runs']} | {g['rate_times_radius']:+.3f}{se} |")
-    lines += ["", "![wall stress against depth](figures/wall_depth.png)", ""]
+             "| run | R | peak pressure | H | mean σ_w (cold hold) | A | a | a R |", "|---|---|---|---|---|---|---|---|"]
+    for r in runs:
+        if r.fit is None:
+            lines.append(f"| {r.label} | {r.radius:g} | {r.peak:.4g} | no profile | | | | |")
+            continue
+        f = r.fit
+        lines.append(f"| {r.label} | {f.radius:g} | {r.peak:.4g} | {f.height:.2f} | {f.mean_stress:.3g} | "
+                     f"{f.amplitude:.3g} ± {f.amplitude_se:.2g} | {f.rate:+.4f} ± {f.rate_se:.4f} | "
+                     f"{f.rate_times_radius:+.3f} ± {f.rate_se * f.radius:.3f} |")
+    fits = [r.fit for r in runs if r.fit is not None]
+    if fits:
+        lines += ["", "| R | runs | a R, mean over runs |", "|---|---|---|"]
+        for radius, g in by_radius(fits).items():
+            se = f" ± {g['se']:.3f}" if g["se"] is not None else " (one run)"
+            lines.append(f"| {radius:g} | {g['runs']} | {g['rate_times_radius']:+.3f}{se} |")
+    if widths is not None:
+        lines += ["", f"**Peak pressure against the width**: P(R) = A H g(c H / R) fitted to the "
+                  f"{len(widths.radii)} runs' peaks (least squares of log P; H = {widths.height:.2f}): "
+                  f"c = {widths.c:.3f} ± {widths.c_se:.3f}, A = {widths.amplitude:.3g} ± {widths.amplitude_se:.2g}."]
+        if fits:
+            mean, se = profiles_c(fits)
+            spread = f" ± {se:.3f}" if se is not None else " (one run)"
+            lines.append(f"The profiles' a R: {mean:.3f}{spread} (mean over {len(fits)} runs).")
+        lines += ["", "| run | R | peak | A H g(c H / R) | ratio |", "|---|---|---|---|---|"]
+        for r, predicted in zip(runs, widths.predicted):
+            lines.append(f"| {r.label} | {r.radius:g} | {r.peak:.4g} | {predicted:.4g} | {r.peak / predicted:.2f} |")
+    lines += ["", "![wall stress against depth and width](figures/wall_depth.png)", ""]
     return "\n".join(lines)
 
 
@@ -123,27 +199,35 @@ def main(argv: Sequence[str] | None = None) -> int:
     try:
         args = _parse(argv)
         runs = _read(args.runs, args.cycle)
+        widths = _width_fit(runs, args.height)
     except SystemExit as e:
         if isinstance(e.code, str):
             print(e.code, file=sys.stderr)
             return 2
         return 2 if e.code else 0
-    groups = by_radius([fit for _, _, fit in runs])
+    fits = [r.fit for r in runs if r.fit is not None]
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
-    fig = _figure(runs, args.cycle)
-    caption = (f"Side-wall stress against depth, cycle {args.cycle}: "
-               + "; ".join(f"{label} a R = {fit.rate_times_radius:+.2f}" for label, _, fit in runs))
+    fig = _figure(runs, args.cycle, widths)
+    caption = (f"Side-wall stress against depth and width, cycle {args.cycle}: "
+               + "; ".join(f"{r.label} (R {r.radius:g}) peak {r.peak:.3g}"
+                           + (f", a R = {r.fit.rate_times_radius:+.2f}" if r.fit else "") for r in runs)
+               + (f"; c from the peaks {widths.c:.2f} ± {widths.c_se:.2f}" if widths else ""))
     save_figure(fig, out, "wall_depth", caption)
     plt.close(fig)
     write_atomic(out / "wall_depth.json", dumps({
         "cycle": args.cycle,
-        "runs": {label: dict(fit.to_dict(), folder=str(profile.folder)) for label, profile, fit in runs},
-        "by_radius": {f"{r:g}": g for r, g in groups.items()}}) + "\n")
-    write_atomic(out / "wall_depth.md", _markdown(runs, args.cycle, groups))
-    for label, _, fit in runs:
-        print(f"wall-stress-depth: {label}: R {fit.radius:g}, a = {fit.rate:+.4f} ± {fit.rate_se:.4f}, "
-              f"a R = {fit.rate_times_radius:+.3f}")
+        "runs": {r.label: {"folder": str(r.folder), "radius": r.radius, "peak_pressure": r.peak,
+                           "profile": r.fit.to_dict() if r.fit else None} for r in runs},
+        "by_radius": {f"{k:g}": g for k, g in by_radius(fits).items()},
+        "widths": widths.to_dict() if widths else None}) + "\n")
+    write_atomic(out / "wall_depth.md", _markdown(runs, args.cycle, widths))
+    for r in runs:
+        text = (f"a = {r.fit.rate:+.4f} ± {r.fit.rate_se:.4f}, a R = {r.fit.rate_times_radius:+.3f}"
+                if r.fit else "no profile")
+        print(f"wall-stress-depth: {r.label}: R {r.radius:g}, peak {r.peak:.4g}, {text}")
+    if widths is not None:
+        print(f"wall-stress-depth: peaks against the width: c = {widths.c:.3f} ± {widths.c_se:.3f}")
     print(f"wall-stress-depth: wrote {out / 'wall_depth.md'}, {out / 'wall_depth.json'}, "
           f"{out / 'figures' / 'wall_depth.png'}")
     return 0

@@ -1,7 +1,7 @@
 """Tests of scripts/analysis/wall_depth.py and scripts/wall-stress-depth on synthetic
 profiles: the growth rate of a profile made from Janssen's form is recovered with its
-sign (growth, saturation, hydrostatic), a R pools runs of one width, and bad inputs are
-refused before anything is written.
+sign (growth, saturation, hydrostatic), a R pools runs of one width, the width relation
+of the peaks gives back its c, and bad inputs are refused before anything is written.
 
 Run with Debian's interpreter: /usr/bin/python3 -m pytest -q scripts/tests/test_wall_depth.py
 """
@@ -29,7 +29,7 @@ H, BANDS = 15.0, 10
 
 
 def write(folder: Path, amplitude: float, rate: float, radius: float = 8.5, noise: float = 0.0, seed: int = 0,
-          cycles=(0,)) -> Path:
+          cycles=(0,), peak: float = 100.0, profile: bool = True) -> Path:
     """A run folder whose wall_profile.csv holds Janssen's form averaged over each band
     (by quadrature, not by the module's closed form), plus normal noise of `noise` times
     the hydrostatic mean A H / 2 in every band (the fit's error bars assume one scatter)."""
@@ -43,7 +43,10 @@ def write(folder: Path, amplitude: float, rate: float, radius: float = 8.5, nois
             mean = quad(lambda d: amplitude * (d if rate == 0 else np.expm1(rate * d) / rate), d1, d2)[0] / (d2 - d1)
             rows.append({"cycle": cycle, "t": 30.0 * (cycle + 1), "bin": b, "z_lo": z_lo, "z_hi": z_hi,
                          "wall_stress": mean + noise * amplitude * H / 2 * rng.normal()})
-    pd.DataFrame(rows).to_csv(folder / "wall_profile.csv", index=False)
+    if profile:
+        pd.DataFrame(rows).to_csv(folder / "wall_profile.csv", index=False)
+    pd.DataFrame({"cycle": list(cycles), "peak_pressure": peak, "t_peak": 1.0}).to_csv(folder / "cycles.csv",
+                                                                                      index=False)
     (folder / "run.json").write_text(json.dumps({"status": "completed",
                                                  "effective_scene": {"container": {"bottom_radius": radius}}}))
     return folder
@@ -80,38 +83,70 @@ def test_a_rate_times_radius_pools_runs_of_one_width(tmp_path):
     assert groups[8.0]["se"] is None and groups[8.0]["rate_times_radius"] == pytest.approx(2.0, abs=1e-5)
 
 
+def test_the_width_relation_of_the_peaks_gives_back_its_c(tmp_path):
+    radii = [4.25, 6.0, 8.5, 17.0]
+    peaks = wall_depth.mean_pressure(radii, 15.0, 1.7, 2.2)
+    fit = wall_depth.fit_widths(radii, peaks, 15.0)
+    # Exact peaks: the optimiser's round-off only.
+    assert fit.c == pytest.approx(2.2, rel=1e-6) and fit.amplitude == pytest.approx(1.7, rel=1e-6)
+    assert fit.predicted == pytest.approx(list(peaks), rel=1e-6)
+    # The mean of the depth form over [0, H] is the band mean of one band as deep as the bed.
+    assert wall_depth.mean_pressure([5.0], 15.0, 1.7, 2.2)[0] == pytest.approx(
+        wall_depth.band_mean(np.array([0.0]), np.array([15.0]), 1.7, 2.2 / 5.0)[0], rel=1e-12)
+    with pytest.raises(wall_depth.ProfileError, match="at least 3 widths"):
+        wall_depth.fit_widths([4.0, 4.0, 8.0], [10.0, 11.0, 3.0], 15.0)
+
+
 def run_tool(*args):
     return subprocess.run(["/usr/bin/python3", str(TOOL), *map(str, args)], capture_output=True, text=True)
 
 
 def test_the_tool_writes_its_table_figure_and_json(tmp_path):
-    narrow = write(tmp_path / "narrow", 1.0, 0.3, radius=4.25)
-    wide = write(tmp_path / "wide", 1.0, 0.15, radius=8.5)
+    peak = dict(zip((4.25, 8.5, 17.0), wall_depth.mean_pressure([4.25, 8.5, 17.0], H, 1.0, 2.0)))
+    narrow = write(tmp_path / "narrow", 1.0, 0.3, radius=4.25, peak=peak[4.25])
+    wide = write(tmp_path / "wide", 1.0, 0.15, radius=8.5, peak=peak[8.5])
     out = tmp_path / "out"
     r = run_tool(f"n={narrow}", f"w={wide}", "--out", out)
     assert r.returncode == 0, r.stderr
     result = json.loads((out / "wall_depth.json").read_text())
-    assert result["runs"]["n"]["rate"] == pytest.approx(0.3, abs=1e-5)
-    assert result["runs"]["w"]["rate_times_radius"] == pytest.approx(0.15 * 8.5, abs=1e-4)
+    assert result["runs"]["n"]["profile"]["rate"] == pytest.approx(0.3, abs=1e-5)
+    assert result["runs"]["w"]["profile"]["rate_times_radius"] == pytest.approx(0.15 * 8.5, abs=1e-4)
     assert set(result["by_radius"]) == {"4.25", "8.5"}
+    assert result["widths"] is None  # two widths fix no curve of two parameters
     table = (out / "wall_depth.md").read_text()
     assert "| n | 4.25 |" in table and "| w | 8.5 |" in table
     assert (out / "figures" / "wall_depth.png").stat().st_size > 10_000
-    assert "n: R 4.25, a = +0.3000" in r.stdout
+    assert "n: R 4.25, peak" in r.stdout and "a = +0.3000" in r.stdout
+    # A third width, a run without a profile: its peak joins the width fit, which gives
+    # back the c the peaks were made with, at the profiles' height.
+    widest = write(tmp_path / "widest", 1.0, 0.1, radius=17.0, peak=peak[17.0], profile=False)
+    r = run_tool(f"n={narrow}", f"w={wide}", f"x={widest}", "--out", out)
+    assert r.returncode == 0, r.stderr
+    result = json.loads((out / "wall_depth.json").read_text())
+    assert result["runs"]["x"]["profile"] is None and result["runs"]["x"]["peak_pressure"] == peak[17.0]
+    assert result["widths"]["height"] == pytest.approx(H)
+    assert result["widths"]["c"] == pytest.approx(2.0, rel=1e-5)
+    assert "| x | 17 |" in (out / "wall_depth.md").read_text() and "c = 2.000" in r.stdout
 
 
 @pytest.mark.parametrize("damage, expected", [
-    ("no_profile", "wall_profile.csv: no such file"),
+    ("no_cycles", "cycles.csv: not a readable CSV"),
+    ("bad_profile", "wall_profile.csv: expected the columns"),
+    ("height", "--height: expected a positive bed height"),
     ("no_radius", "field 'effective_scene.container.bottom_radius'"),
     ("no_column", "missing wall_stress"),
-    ("cycle", "field 'cycle': no rows of cycle 3"),
+    ("cycle", "cycles.csv: field 'cycle': no row of cycle 3"),
     ("few_bands", "a fit needs at least 4"),
 ])
 def test_bad_inputs_are_refused_before_anything_is_written(tmp_path, capsys, damage, expected):
     run = write(tmp_path / "run", 1.0, 0.1)
     args = []
-    if damage == "no_profile":
-        (run / "wall_profile.csv").unlink()
+    if damage == "no_cycles":
+        (run / "cycles.csv").unlink()
+    elif damage == "bad_profile":
+        (run / "wall_profile.csv").write_text("cycle,bin\n0,0\n")
+    elif damage == "height":
+        args = ["--height", -1]
     elif damage == "no_radius":
         (run / "run.json").write_text(json.dumps({"effective_scene": {"container": {}}}))
     elif damage == "no_column":
@@ -124,5 +159,5 @@ def test_bad_inputs_are_refused_before_anything_is_written(tmp_path, capsys, dam
     out = tmp_path / "out"
     assert main([str(run), "--out", str(out), *map(str, args)]) == 2
     err = capsys.readouterr().err
-    assert expected in err and str(run) in err
+    assert expected in err and (str(run) in err or damage == "height")
     assert not out.exists()
