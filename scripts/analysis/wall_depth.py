@@ -26,6 +26,12 @@ height and one μ_w K (c = 2 μ_w K = a R)
 
 fit_widths fits A and c to the cycle's peak pressures of beds of several widths: a second
 measure of c, from the peaks during cooling rather than from the profile of the cold hold.
+
+A cone of opening angle θ leans its wall outward, so the wall's normal stress pushes the
+grains up by σ_w sin θ while the friction pushes them down by μ_w σ_w cos θ: the balance's
+friction becomes μ_w cos θ - sin θ and c(θ) = c (cos θ - sin θ / μ_w). fit_angles fits
+A and μ_w to the peaks of beds of several angles at one radius, c from the width fit
+(the cone's widening with height, about R tan θ over the bed, is left out).
 """
 
 from __future__ import annotations
@@ -107,20 +113,26 @@ def read_profile(folder: Path) -> Profile:
         raise ProfileError(f"{path}: expected the columns {', '.join(PROFILE_COLUMNS)}; missing {', '.join(missing)}")
     if table.empty:
         raise ProfileError(f"{path}: no rows (the container is not a cone, or no cycle ended)")
-    return Profile(folder=folder, radius=read_radius(folder), table=table)
+    return Profile(folder=folder, radius=read_cone(folder)[0], table=table)
 
 
-def read_radius(folder: Path) -> float:
-    """The container's bottom radius of the run (run.json's effective scene)."""
+def read_cone(folder: Path) -> tuple[float, float]:
+    """The container's bottom radius and opening angle in degrees (run.json's effective scene)."""
     run_json = Path(folder) / "run.json"
     try:
-        scene = json.loads(run_json.read_text()).get("effective_scene") or {}
-        return float(scene["container"]["bottom_radius"])
+        container = (json.loads(run_json.read_text()).get("effective_scene") or {})["container"]
     except (OSError, ValueError) as e:
         raise ProfileError(f"{run_json}: not readable ({e})") from None
     except (KeyError, TypeError):
-        raise ProfileError(f"{run_json}: field 'effective_scene.container.bottom_radius': expected a number "
-                           "(the run's cone)") from None
+        container = None
+    values = []
+    for field in ("bottom_radius", "opening_angle_deg"):
+        try:
+            values.append(float(container[field]))
+        except (KeyError, TypeError, ValueError):
+            raise ProfileError(f"{run_json}: field 'effective_scene.container.{field}': expected a number "
+                               "(the run's cone)") from None
+    return values[0], values[1]
 
 
 def read_peak(folder: Path, cycle: int) -> float:
@@ -223,3 +235,48 @@ def fit_widths(radii, pressures, height: float) -> WidthFit:
     return WidthFit(height=height, amplitude=amplitude, amplitude_se=float(amplitude * se[0]), c=float(c),
                     c_se=float(se[1]), radii=radii.tolist(), pressures=pressures.tolist(),
                     predicted=mean_pressure(radii, height, amplitude, c).tolist())
+
+
+@dataclass
+class AngleFit:
+    radius: float
+    height: float
+    c: float                   # c at 0 deg, from the width fit (held)
+    amplitude: float
+    amplitude_se: float
+    mu: float                  # the friction the angles' peaks give
+    mu_se: float
+    angles: list[float]
+    pressures: list[float]
+    predicted: list[float]
+
+    def to_dict(self) -> dict:
+        return {"radius": self.radius, "height": self.height, "c": self.c, "amplitude": self.amplitude,
+                "amplitude_se": self.amplitude_se, "mu": self.mu, "mu_se": self.mu_se, "angles": self.angles,
+                "pressures": self.pressures, "predicted": self.predicted}
+
+
+def angle_pressure(angle_deg, radius: float, height: float, amplitude: float, c: float, mu: float) -> np.ndarray:
+    """A H g(c (cos θ - sin θ / μ) H / R)."""
+    theta = np.radians(np.asarray(angle_deg, float))
+    return amplitude * height * _grown(c * (np.cos(theta) - np.sin(theta) / mu) * height / radius)
+
+
+def fit_angles(angles, pressures, radius: float, height: float, c: float) -> AngleFit:
+    """Least squares of log P(θ) for A and μ_w at the width fit's c."""
+    angles, pressures = np.asarray(angles, float), np.asarray(pressures, float)
+    if len(set(angles.tolist())) < 3:
+        raise ProfileError(f"a fit of the peak pressure against the opening angle needs beds of at least 3 "
+                           f"angles at one radius; got the angles {sorted(set(angles.tolist()))}")
+
+    def model(a, log_amplitude, mu):
+        return np.log(angle_pressure(a, radius, height, math.exp(log_amplitude), c, mu))
+
+    start = math.log(float(np.max(pressures)) / (height * float(_grown(c * height / radius))))
+    (log_amplitude, mu), covariance = curve_fit(model, angles, np.log(pressures), p0=(start, 0.5),
+                                                bounds=([-np.inf, 1e-3], [np.inf, 10.0]), maxfev=10000)
+    se = np.sqrt(np.diag(covariance)) if np.all(np.isfinite(covariance)) else (math.nan, math.nan)
+    amplitude = math.exp(log_amplitude)
+    return AngleFit(radius=radius, height=height, c=c, amplitude=amplitude, amplitude_se=float(amplitude * se[0]),
+                    mu=float(mu), mu_se=float(se[1]), angles=angles.tolist(), pressures=pressures.tolist(),
+                    predicted=angle_pressure(angles, radius, height, amplitude, c, mu).tolist())

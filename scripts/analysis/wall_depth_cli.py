@@ -33,6 +33,7 @@ class Run:
     label: str
     folder: Path
     radius: float
+    angle: float                                  # the cone's opening angle, degrees
     peak: float                                   # the cycle's peak pressure (cycles.csv)
     profile: wall_depth.Profile | None = None     # None: the run wrote no wall_profile.csv
     fit: wall_depth.DepthFit | None = None
@@ -73,7 +74,8 @@ def _read(specs: Sequence[str], cycle: int) -> list[Run]:
         label, _, name = spec.rpartition("=")
         folder = Path(name)
         try:
-            run = Run(label=label or folder.name, folder=folder, radius=wall_depth.read_radius(folder),
+            radius, angle = wall_depth.read_cone(folder)
+            run = Run(label=label or folder.name, folder=folder, radius=radius, angle=angle,
                       peak=wall_depth.read_peak(folder, cycle))
             if (folder / wall_depth.PROFILE_FILE).exists():
                 run.profile = wall_depth.read_profile(folder)
@@ -104,6 +106,7 @@ def profiles_c(fits: list[wall_depth.DepthFit]) -> tuple[float, float | None]:
 
 
 def _width_fit(runs: list[Run], height: float | None) -> wall_depth.WidthFit | None:
+    runs = [r for r in runs if r.angle == 0]  # the width relation is of upright cylinders
     if len({r.radius for r in runs}) < 3:
         return None
     heights = [r.fit.height for r in runs if r.fit is not None]
@@ -117,8 +120,30 @@ def _width_fit(runs: list[Run], height: float | None) -> wall_depth.WidthFit | N
         raise SystemExit(f"wall-stress-depth: {e}")
 
 
-def _figure(runs: list[Run], cycle: int, widths: wall_depth.WidthFit | None):
-    fig, (left, middle, right) = plt.subplots(1, 3, figsize=(16.0, 4.8))
+def _angle_fit(runs: list[Run], widths: wall_depth.WidthFit | None) -> wall_depth.AngleFit | None:
+    """The angles' fit at the one radius of the runs with an opening angle, c from the widths."""
+    leaning = [r for r in runs if r.angle != 0]
+    if not leaning:
+        return None
+    radii = sorted({r.radius for r in leaning})
+    if len(radii) > 1:
+        raise SystemExit(f"wall-stress-depth: the runs with an opening angle have the radii {radii}; the angle "
+                         "fit needs them at one radius")
+    if widths is None:
+        raise SystemExit("wall-stress-depth: the angle fit takes c from the width fit: give runs at 0 deg of "
+                         "3 or more radii")
+    group = [r for r in runs if r.radius == radii[0]]
+    try:
+        return wall_depth.fit_angles([r.angle for r in group], [r.peak for r in group], radii[0],
+                                     widths.height, widths.c)
+    except wall_depth.ProfileError as e:
+        raise SystemExit(f"wall-stress-depth: {e}")
+
+
+def _figure(runs: list[Run], cycle: int, widths: wall_depth.WidthFit | None, angles: wall_depth.AngleFit | None):
+    panels = 4 if angles is not None else 3
+    fig, axes = plt.subplots(1, panels, figsize=(5.3 * panels, 4.8))
+    left, middle, right = axes[:3]
     fitted = [r for r in runs if r.fit is not None]
     for r in fitted:
         top, bottom, stress = r.profile.bands(cycle)
@@ -143,7 +168,8 @@ def _figure(runs: list[Run], cycle: int, widths: wall_depth.WidthFit | None):
     middle.set_ylabel("a R = 2 μ_w K")
     middle.legend(fontsize=7)
     middle.set_title("growth rate times radius (fit's standard error)", fontsize=9)
-    right.plot([r.radius for r in runs], [r.peak for r in runs], "o", label="each run")
+    upright = [r for r in runs if r.angle == 0]
+    right.plot([r.radius for r in upright], [r.peak for r in upright], "o", label="each run at 0 deg")
     if widths is not None:
         grid = np.linspace(min(widths.radii) * 0.8, max(widths.radii) * 1.2, 200)
         right.plot(grid, wall_depth.mean_pressure(grid, widths.height, widths.amplitude, widths.c), "-",
@@ -154,24 +180,38 @@ def _figure(runs: list[Run], cycle: int, widths: wall_depth.WidthFit | None):
     right.set_ylabel(f"peak wall pressure of cycle {cycle}")
     right.legend(fontsize=7)
     right.set_title("peak pressure against the width", fontsize=9)
+    if angles is not None:
+        ax = axes[3]
+        ax.plot(angles.angles, angles.pressures, "o", label=f"each run at R = {angles.radius:g}")
+        grid = np.linspace(0.0, max(angles.angles) * 1.1, 200)
+        ax.plot(grid, wall_depth.angle_pressure(grid, angles.radius, angles.height, angles.amplitude, angles.c,
+                                                angles.mu), "-",
+                label=f"friction μ cos θ - sin θ, μ = {angles.mu:.2f} ± {angles.mu_se:.2f}")
+        ax.set_yscale("log")
+        ax.set_xlabel("opening angle θ (degrees)")
+        ax.set_ylabel(f"peak wall pressure of cycle {cycle}")
+        ax.legend(fontsize=7)
+        ax.set_title(f"peak pressure against the angle (c = {angles.c:.2f} held)", fontsize=9)
     fig.suptitle(f"Side-wall stress against depth and width, cycle {cycle}", fontsize=11)
     fig.tight_layout()
     return fig
 
 
-def _markdown(runs: list[Run], cycle: int, widths: wall_depth.WidthFit | None) -> str:
+def _markdown(runs: list[Run], cycle: int, widths: wall_depth.WidthFit | None,
+              angles: wall_depth.AngleFit | None) -> str:
     lines = [f"# Side-wall stress against depth and width, cycle {cycle}", "",
              "σ_w(d) = A (e^{a d} - 1)/a fitted to each cold-hold profile's bands (band means; "
              "scripts/analysis/wall_depth.py says why): a > 0 the stress grows faster than the "
              "weight (wall friction pushing the grains down), a < 0 it saturates (Janssen's silo). "
              "± is the fit's standard error.", "",
-             "| run | R | peak pressure | H | mean σ_w (cold hold) | A | a | a R |", "|---|---|---|---|---|---|---|---|"]
+             "| run | R | θ | peak pressure | H | mean σ_w (cold hold) | A | a | a R |",
+             "|---|---|---|---|---|---|---|---|---|"]
     for r in runs:
         if r.fit is None:
-            lines.append(f"| {r.label} | {r.radius:g} | {r.peak:.4g} | no profile | | | | |")
+            lines.append(f"| {r.label} | {r.radius:g} | {r.angle:g} | {r.peak:.4g} | no profile | | | | |")
             continue
         f = r.fit
-        lines.append(f"| {r.label} | {f.radius:g} | {r.peak:.4g} | {f.height:.2f} | {f.mean_stress:.3g} | "
+        lines.append(f"| {r.label} | {f.radius:g} | {r.angle:g} | {r.peak:.4g} | {f.height:.2f} | {f.mean_stress:.3g} | "
                      f"{f.amplitude:.3g} ± {f.amplitude_se:.2g} | {f.rate:+.4f} ± {f.rate_se:.4f} | "
                      f"{f.rate_times_radius:+.3f} ± {f.rate_se * f.radius:.3f} |")
     fits = [r.fit for r in runs if r.fit is not None]
@@ -189,8 +229,21 @@ def _markdown(runs: list[Run], cycle: int, widths: wall_depth.WidthFit | None) -
             spread = f" ± {se:.3f}" if se is not None else " (one run)"
             lines.append(f"The profiles' a R: {mean:.3f}{spread} (mean over {len(fits)} runs).")
         lines += ["", "| run | R | peak | A H g(c H / R) | ratio |", "|---|---|---|---|---|"]
-        for r, predicted in zip(runs, widths.predicted):
+        for r, predicted in zip([r for r in runs if r.angle == 0], widths.predicted):
             lines.append(f"| {r.label} | {r.radius:g} | {r.peak:.4g} | {predicted:.4g} | {r.peak / predicted:.2f} |")
+    if angles is not None:
+        lines += ["", f"**Peak pressure against the opening angle** at R = {angles.radius:g}: the friction of the "
+                  f"balance μ cos θ - sin θ (the leaning wall's normal stress pushes the grains up), "
+                  f"P(θ) = A H g(c (cos θ - sin θ / μ) H / R) with the width fit's c = {angles.c:.3f} held, fitted "
+                  f"to the {len(angles.angles)} runs' peaks (least squares of log P): μ = {angles.mu:.3f} ± "
+                  f"{angles.mu_se:.3f}, A = {angles.amplitude:.3g} ± {angles.amplitude_se:.2g}. The cone's widening "
+                  "with height is left out.", "",
+                  "| θ | runs | mean peak | the fit's | ratio |", "|---|---|---|---|---|"]
+        for theta in sorted(set(angles.angles)):
+            at = [k for k, a in enumerate(angles.angles) if a == theta]
+            mean = float(np.mean([angles.pressures[k] for k in at]))
+            lines.append(f"| {theta:g} | {len(at)} | {mean:.4g} | {angles.predicted[at[0]]:.4g} | "
+                         f"{mean / angles.predicted[at[0]]:.2f} |")
     lines += ["", "![wall stress against depth and width](figures/wall_depth.png)", ""]
     return "\n".join(lines)
 
@@ -200,6 +253,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         args = _parse(argv)
         runs = _read(args.runs, args.cycle)
         widths = _width_fit(runs, args.height)
+        angles = _angle_fit(runs, widths)
     except SystemExit as e:
         if isinstance(e.code, str):
             print(e.code, file=sys.stderr)
@@ -208,26 +262,30 @@ def main(argv: Sequence[str] | None = None) -> int:
     fits = [r.fit for r in runs if r.fit is not None]
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
-    fig = _figure(runs, args.cycle, widths)
+    fig = _figure(runs, args.cycle, widths, angles)
     caption = (f"Side-wall stress against depth and width, cycle {args.cycle}: "
                + "; ".join(f"{r.label} (R {r.radius:g}) peak {r.peak:.3g}"
                            + (f", a R = {r.fit.rate_times_radius:+.2f}" if r.fit else "") for r in runs)
-               + (f"; c from the peaks {widths.c:.2f} ± {widths.c_se:.2f}" if widths else ""))
+               + (f"; c from the peaks {widths.c:.2f} ± {widths.c_se:.2f}" if widths else "")
+               + (f"; μ from the angles {angles.mu:.2f} ± {angles.mu_se:.2f}" if angles else ""))
     save_figure(fig, out, "wall_depth", caption)
     plt.close(fig)
     write_atomic(out / "wall_depth.json", dumps({
         "cycle": args.cycle,
-        "runs": {r.label: {"folder": str(r.folder), "radius": r.radius, "peak_pressure": r.peak,
+        "runs": {r.label: {"folder": str(r.folder), "radius": r.radius, "angle": r.angle, "peak_pressure": r.peak,
                            "profile": r.fit.to_dict() if r.fit else None} for r in runs},
         "by_radius": {f"{k:g}": g for k, g in by_radius(fits).items()},
-        "widths": widths.to_dict() if widths else None}) + "\n")
-    write_atomic(out / "wall_depth.md", _markdown(runs, args.cycle, widths))
+        "widths": widths.to_dict() if widths else None,
+        "angles": angles.to_dict() if angles else None}) + "\n")
+    write_atomic(out / "wall_depth.md", _markdown(runs, args.cycle, widths, angles))
     for r in runs:
         text = (f"a = {r.fit.rate:+.4f} ± {r.fit.rate_se:.4f}, a R = {r.fit.rate_times_radius:+.3f}"
                 if r.fit else "no profile")
         print(f"wall-stress-depth: {r.label}: R {r.radius:g}, peak {r.peak:.4g}, {text}")
     if widths is not None:
         print(f"wall-stress-depth: peaks against the width: c = {widths.c:.3f} ± {widths.c_se:.3f}")
+    if angles is not None:
+        print(f"wall-stress-depth: peaks against the angle: mu = {angles.mu:.3f} ± {angles.mu_se:.3f}")
     print(f"wall-stress-depth: wrote {out / 'wall_depth.md'}, {out / 'wall_depth.json'}, "
           f"{out / 'figures' / 'wall_depth.png'}")
     return 0

@@ -29,7 +29,7 @@ H, BANDS = 15.0, 10
 
 
 def write(folder: Path, amplitude: float, rate: float, radius: float = 8.5, noise: float = 0.0, seed: int = 0,
-          cycles=(0,), peak: float = 100.0, profile: bool = True) -> Path:
+          cycles=(0,), peak: float = 100.0, profile: bool = True, angle: float = 0.0) -> Path:
     """A run folder whose wall_profile.csv holds Janssen's form averaged over each band
     (by quadrature, not by the module's closed form), plus normal noise of `noise` times
     the hydrostatic mean A H / 2 in every band (the fit's error bars assume one scatter)."""
@@ -48,7 +48,8 @@ def write(folder: Path, amplitude: float, rate: float, radius: float = 8.5, nois
     pd.DataFrame({"cycle": list(cycles), "peak_pressure": peak, "t_peak": 1.0}).to_csv(folder / "cycles.csv",
                                                                                       index=False)
     (folder / "run.json").write_text(json.dumps({"status": "completed",
-                                                 "effective_scene": {"container": {"bottom_radius": radius}}}))
+                                                 "effective_scene": {"container": {"bottom_radius": radius,
+                                                                                   "opening_angle_deg": angle}}}))
     return folder
 
 
@@ -95,6 +96,43 @@ def test_the_width_relation_of_the_peaks_gives_back_its_c(tmp_path):
         wall_depth.band_mean(np.array([0.0]), np.array([15.0]), 1.7, 2.2 / 5.0)[0], rel=1e-12)
     with pytest.raises(wall_depth.ProfileError, match="at least 3 widths"):
         wall_depth.fit_widths([4.0, 4.0, 8.0], [10.0, 11.0, 3.0], 15.0)
+
+
+def test_the_angle_relation_of_the_peaks_gives_back_its_friction(tmp_path):
+    angles = [0.0, 2.0, 4.0, 6.0, 8.0]
+    peaks = wall_depth.angle_pressure(angles, 8.5, 15.0, 1.9, 2.1, 0.25)
+    fit = wall_depth.fit_angles(angles, peaks, 8.5, 15.0, 2.1)
+    assert fit.mu == pytest.approx(0.25, rel=1e-5) and fit.amplitude == pytest.approx(1.9, rel=1e-5)
+    # At 0 deg the angle relation is the width relation.
+    assert wall_depth.angle_pressure([0.0], 8.5, 15.0, 1.9, 2.1, 0.25)[0] == pytest.approx(
+        wall_depth.mean_pressure([8.5], 15.0, 1.9, 2.1)[0], rel=1e-12)
+    # A leaning wall lowers the peak the more, the smaller the friction it has to beat.
+    assert wall_depth.angle_pressure([6.0], 8.5, 15.0, 1.9, 2.1, 0.2)[0] < wall_depth.angle_pressure(
+        [6.0], 8.5, 15.0, 1.9, 2.1, 0.5)[0] < peaks[0]
+    with pytest.raises(wall_depth.ProfileError, match="at least 3 angles"):
+        wall_depth.fit_angles([0.0, 6.0, 6.0], [80.0, 27.0, 28.0], 8.5, 15.0, 2.1)
+
+
+def test_the_tool_fits_the_angles_at_the_width_fits_c(tmp_path, capsys):
+    radii, height, c, mu = [4.25, 8.5, 17.0], H, 2.0, 0.3
+    folders = [f"w{r:g}={write(tmp_path / f'w{r:g}', 1.0, 0.1, radius=r, peak=wall_depth.mean_pressure([r], height, 1.0, c)[0])}"
+               for r in radii]
+    leaning = [f"t{t:g}={write(tmp_path / f't{t:g}', 1.0, 0.1, radius=8.5, angle=t, profile=False, peak=wall_depth.angle_pressure([t], 8.5, height, 1.0, c, mu)[0])}"
+               for t in (3.0, 6.0)]
+    out = tmp_path / "out"
+    assert main([*folders, *leaning, "--out", str(out)]) == 0
+    result = json.loads((out / "wall_depth.json").read_text())
+    assert result["widths"]["c"] == pytest.approx(c, rel=1e-5)  # the leaning runs are not in the width fit
+    assert result["angles"]["mu"] == pytest.approx(mu, rel=1e-4)
+    assert sorted(result["angles"]["angles"]) == [0.0, 3.0, 6.0]
+    assert "against the opening angle" in (out / "wall_depth.md").read_text()
+    # Leaning runs at two radii, or without the widths' c, are refused.
+    other = write(tmp_path / "other", 1.0, 0.1, radius=6.0, angle=6.0, profile=False)
+    assert main([*folders, *leaning, f"o={other}", "--out", str(tmp_path / "o1")]) == 2
+    assert "the angle fit needs them at one radius" in capsys.readouterr().err
+    assert main([folders[1], *leaning, "--out", str(tmp_path / "o2")]) == 2
+    assert "the angle fit takes c from the width fit" in capsys.readouterr().err
+    assert not (tmp_path / "o1").exists() and not (tmp_path / "o2").exists()
 
 
 def run_tool(*args):
