@@ -45,6 +45,8 @@ import numpy as np
 import pandas as pd
 from scipy.optimize import curve_fit
 
+from .inputs import read_csv_columns, read_cycles
+
 PROFILE_FILE = "wall_profile.csv"
 PROFILE_COLUMNS = ("cycle", "bin", "z_lo", "z_hi", "wall_stress")
 #: Fewer bands than this leave the two parameters without a residual to judge them by.
@@ -97,23 +99,22 @@ class DepthFit:
                 "mean_stress": self.mean_stress}
 
 
-def read_profile(folder: Path) -> Profile:
-    """The run's wall_profile.csv and its container radius; ProfileError naming the file
-    and field otherwise."""
+def read_profile(folder: Path, radius: float | None = None) -> Profile:
+    """The run's wall_profile.csv and its container radius (read from run.json unless the
+    caller has it); ProfileError naming the file and field otherwise."""
     folder = Path(folder)
     path = folder / PROFILE_FILE
     if not path.is_file():
         raise ProfileError(f"{path}: no such file (a run writes it with outputs.wall_profile_bins > 0)")
-    try:
-        table = pd.read_csv(path, float_precision="round_trip")
-    except (OSError, ValueError, pd.errors.ParserError, pd.errors.EmptyDataError) as e:
-        raise ProfileError(f"{path}: not a readable CSV ({e})") from None
+    table = read_csv_columns(path, PROFILE_COLUMNS)
+    if table is None:
+        raise ProfileError(f"{path}: not a readable CSV")
     missing = [c for c in PROFILE_COLUMNS if c not in table.columns]
     if missing:
         raise ProfileError(f"{path}: expected the columns {', '.join(PROFILE_COLUMNS)}; missing {', '.join(missing)}")
     if table.empty:
         raise ProfileError(f"{path}: no rows (the container is not a cone, or no cycle ended)")
-    return Profile(folder=folder, radius=read_cone(folder)[0], table=table)
+    return Profile(folder=folder, radius=read_cone(folder)[0] if radius is None else radius, table=table)
 
 
 def read_cone(folder: Path) -> tuple[float, float]:
@@ -138,10 +139,9 @@ def read_cone(folder: Path) -> tuple[float, float]:
 def read_peak(folder: Path, cycle: int) -> float:
     """The cycle's peak pressure (cycles.csv, docs/output-format.md)."""
     path = Path(folder) / "cycles.csv"
-    try:
-        table = pd.read_csv(path, float_precision="round_trip")
-    except (OSError, ValueError, pd.errors.ParserError, pd.errors.EmptyDataError) as e:
-        raise ProfileError(f"{path}: not a readable CSV ({e})") from None
+    table = read_cycles(Path(folder))
+    if table is None:
+        raise ProfileError(f"{path}: not a readable CSV")
     if "cycle" not in table.columns or "peak_pressure" not in table.columns:
         raise ProfileError(f"{path}: expected the columns cycle and peak_pressure")
     rows = table[table["cycle"] == cycle]

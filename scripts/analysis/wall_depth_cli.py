@@ -78,7 +78,7 @@ def _read(specs: Sequence[str], cycle: int) -> list[Run]:
             run = Run(label=label or folder.name, folder=folder, radius=radius, angle=angle,
                       peak=wall_depth.read_peak(folder, cycle))
             if (folder / wall_depth.PROFILE_FILE).exists():
-                run.profile = wall_depth.read_profile(folder)
+                run.profile = wall_depth.read_profile(folder, radius)  # run.json read once
                 run.fit = wall_depth.fit_profile(run.profile, cycle)
         except wall_depth.ProfileError as e:
             raise SystemExit(f"wall-stress-depth: {e}")
