@@ -75,6 +75,7 @@ def test_a_noisy_profile_gives_the_rate_within_its_error_and_the_right_sign(tmp_
 
 
 def test_a_rate_times_radius_pools_runs_of_one_width(tmp_path):
+    # Exact profiles (abs 1e-5 below): the quadrature's and the optimiser's round-off only.
     fits = [wall_depth.fit_profile(wall_depth.read_profile(write(tmp_path / name, 1.0, 2.0 / radius,
                                                                  radius=radius)), 0)
             for name, radius in (("a", 4.0), ("b", 4.0), ("c", 8.0))]
@@ -102,6 +103,7 @@ def test_the_angle_relation_of_the_peaks_gives_back_its_friction(tmp_path):
     angles = [0.0, 2.0, 4.0, 6.0, 8.0]
     peaks = wall_depth.angle_pressure(angles, 8.5, 15.0, 1.9, 2.1, 0.25)
     fit = wall_depth.fit_angles(angles, peaks, 8.5, 15.0, 2.1)
+    # Exact peaks: rel 1e-5 is the optimiser's stopping tolerance, not a physical one.
     assert fit.mu == pytest.approx(0.25, rel=1e-5) and fit.amplitude == pytest.approx(1.9, rel=1e-5)
     # At 0 deg the angle relation is the width relation.
     assert wall_depth.angle_pressure([0.0], 8.5, 15.0, 1.9, 2.1, 0.25)[0] == pytest.approx(
@@ -120,6 +122,7 @@ def test_the_tool_fits_the_angles_at_the_width_fits_c(tmp_path, capsys):
     leaning = [f"t{t:g}={write(tmp_path / f't{t:g}', 1.0, 0.1, radius=8.5, angle=t, profile=False, peak=wall_depth.angle_pressure([t], 8.5, height, 1.0, c, mu)[0])}"
                for t in (3.0, 6.0)]
     out = tmp_path / "out"
+    # Exact synthetic peaks: rel 1e-4 to 1e-5 is the two chained fits' round-off.
     assert main([*folders, *leaning, "--out", str(out)]) == 0
     result = json.loads((out / "wall_depth.json").read_text())
     assert result["widths"]["c"] == pytest.approx(c, rel=1e-5)  # the leaning runs are not in the width fit
@@ -144,6 +147,7 @@ def test_the_tool_writes_its_table_figure_and_json(tmp_path):
     narrow = write(tmp_path / "narrow", 1.0, 0.3, radius=4.25, peak=peak[4.25])
     wide = write(tmp_path / "wide", 1.0, 0.15, radius=8.5, peak=peak[8.5])
     out = tmp_path / "out"
+    # Exact synthetic data throughout: the tolerances below (1e-4 to 1e-5) are the fits' round-off.
     r = run_tool(f"n={narrow}", f"w={wide}", "--out", out)
     assert r.returncode == 0, r.stderr
     result = json.loads((out / "wall_depth.json").read_text())
