@@ -69,7 +69,7 @@ def done(tmp_path_factory):
 
 
 def test_table_agrees_with_the_runs(done):
-    _, out = done
+    plan, out = done
     res = json.loads((out / "comparison.json").read_text())
     assert res["settings"] == ["rigid", "soft"]
     p_max = {n: [json.loads((out / "runs" / f"{n}-s{s}" / "run.json").read_text())["summary"]["P_max"]
@@ -103,6 +103,9 @@ def test_table_agrees_with_the_runs(done):
     assert 0 < sum(ph["seconds"] for ph in run["phases"]) <= run["wall_seconds"]
     assert (out / "comparison.md").read_text().count("|") > 10
     assert (out / "figures" / "compare_settings.png").stat().st_size > 1000
+    # The caption names the plan and its settings (a report tells its figures apart by caption).
+    caption = (out / "figures" / "compare_settings.txt").read_text()
+    assert caption.startswith(f"Plan {plan.stem}: settings rigid, soft (reference rigid), 2 seeds each;")
 
 
 def test_the_stage_fields_give_the_still_zone_and_the_circulation(done, tmp_path):

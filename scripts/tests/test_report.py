@@ -478,6 +478,11 @@ def test_the_report_shows_what_accuracy_costs(folders):
     markdown = (out / "report.md").read_text(encoding="utf-8")
     figures = sorted((STORED / "accuracy").glob("*.png"))
     assert figures, "validation/results/accuracy holds the stored accuracy-cost figures"
+    # Each stored figure has its own caption: the report's images are told apart by it.
+    captions = {}
+    for figure in figures:
+        captions.setdefault(report.figure_caption(figure), []).append(figure.name)
+    assert not [names for names in captions.values() if len(names) > 1]
     section = markdown.split("## What accuracy costs", 1)[1].split("## Checks of this run", 1)[0]
     for figure in figures:
         caption = figure.with_suffix(".txt").read_text(encoding="utf-8").strip()
