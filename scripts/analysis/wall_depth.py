@@ -32,6 +32,11 @@ grains up by σ_w sin θ while the friction pushes them down by μ_w σ_w cos θ
 friction becomes μ_w cos θ - sin θ and c(θ) = c (cos θ - sin θ / μ_w). fit_angles fits
 A and μ_w to the peaks of beds of several angles at one radius, c from the width fit
 (the cone's widening with height, about R tan θ over the bed, is left out).
+
+With A held, one peak fixes its c (invert_c: g rises monotonically), so a realization's
+peaks at 0 and at θ give 2 μ_w K and 2 K (μ_w cos θ − sin θ), hence K and μ_w
+(friction_pair). A wall of another friction moves μ_w; if K is the bed's, the same K
+holds at every wall friction, and the 0° peak predicts the θ peak (predicted_ratio).
 """
 
 from __future__ import annotations
@@ -43,7 +48,7 @@ from pathlib import Path
 
 import numpy as np
 import pandas as pd
-from scipy.optimize import curve_fit
+from scipy.optimize import brentq, curve_fit
 
 from .inputs import read_csv_columns, read_cycles
 
@@ -117,15 +122,22 @@ def read_profile(folder: Path, radius: float | None = None) -> Profile:
     return Profile(folder=folder, radius=read_cone(folder)[0] if radius is None else radius, table=table)
 
 
-def read_cone(folder: Path) -> tuple[float, float]:
-    """The container's bottom radius and opening angle in degrees (run.json's effective scene)."""
+@dataclass
+class RunScene:
+    radius: float                  # the container's bottom radius
+    angle: float                   # its opening angle, degrees
+    wall_friction: float | None    # materials.wall_friction (None: the scene does not say)
+    seed: int | None               # the realization (None: the scene does not say)
+
+
+def read_scene(folder: Path) -> RunScene:
+    """The run's cone, wall friction and seed, from one reading of run.json's effective scene."""
     run_json = Path(folder) / "run.json"
     try:
-        container = (json.loads(run_json.read_text()).get("effective_scene") or {})["container"]
+        scene = json.loads(run_json.read_text()).get("effective_scene") or {}
     except (OSError, ValueError) as e:
         raise ProfileError(f"{run_json}: not readable ({e})") from None
-    except (KeyError, TypeError):
-        container = None
+    container = scene.get("container") if isinstance(scene, dict) else None
     values = []
     for field in ("bottom_radius", "opening_angle_deg"):
         try:
@@ -133,7 +145,20 @@ def read_cone(folder: Path) -> tuple[float, float]:
         except (KeyError, TypeError, ValueError):
             raise ProfileError(f"{run_json}: field 'effective_scene.container.{field}': expected a number "
                                "(the run's cone)") from None
-    return values[0], values[1]
+    friction = (scene.get("materials") or {}).get("wall_friction")
+    if friction is not None and not isinstance(friction, (int, float)):
+        raise ProfileError(f"{run_json}: field 'effective_scene.materials.wall_friction': expected a number")
+    seed = scene.get("seed")
+    if seed is not None and not isinstance(seed, int):
+        raise ProfileError(f"{run_json}: field 'effective_scene.seed': expected an integer")
+    return RunScene(radius=values[0], angle=values[1],
+                    wall_friction=None if friction is None else float(friction), seed=seed)
+
+
+def read_cone(folder: Path) -> tuple[float, float]:
+    """The container's bottom radius and opening angle in degrees (run.json's effective scene)."""
+    scene = read_scene(folder)
+    return scene.radius, scene.angle
 
 
 def read_peak(folder: Path, cycle: int) -> float:
@@ -280,3 +305,34 @@ def fit_angles(angles, pressures, radius: float, height: float, c: float) -> Ang
     return AngleFit(radius=radius, height=height, c=c, amplitude=amplitude, amplitude_se=float(amplitude * se[0]),
                     mu=float(mu), mu_se=float(se[1]), angles=angles.tolist(), pressures=pressures.tolist(),
                     predicted=angle_pressure(angles, radius, height, amplitude, c, mu).tolist())
+
+
+def invert_c(pressure: float, radius: float, height: float, amplitude: float) -> float:
+    """The c for which A H g(c H / R) equals the pressure; g rises monotonically from 0
+    (x → −∞) through 1/2 (x = 0) without bound, so there is exactly one."""
+    target = pressure / (amplitude * height)
+    if not (math.isfinite(target) and target > 0):
+        raise ProfileError(f"a peak pressure of {pressure} with A = {amplitude}: expected both positive")
+    lo, hi = -1.0, 1.0
+    while _grown(lo) > target:
+        lo *= 2.0
+    while _grown(hi) < target:
+        hi *= 2.0
+    x = brentq(lambda v: float(_grown(v)) - target, lo, hi, xtol=1e-14, rtol=1e-14)
+    return x * radius / height
+
+
+def friction_pair(c0: float, c_theta: float, theta_deg: float) -> tuple[float, float]:
+    """(μ_w, K) from c at 0 (2 μ_w K) and at θ (2 K (μ_w cos θ − sin θ))."""
+    theta = math.radians(theta_deg)
+    k = (c0 * math.cos(theta) - c_theta) / (2.0 * math.sin(theta))
+    return c0 / (2.0 * k), k
+
+
+def predicted_ratio(p0: float, theta_deg: float, k: float, radius: float, height: float,
+                    amplitude: float) -> float:
+    """P(θ)/P(0) when the 0° peak p0 fixes 2 μ_w K and K is given: c(θ) = c0 cos θ − 2 K sin θ."""
+    theta = math.radians(theta_deg)
+    c0 = invert_c(p0, radius, height, amplitude)
+    c_theta = c0 * math.cos(theta) - 2.0 * k * math.sin(theta)
+    return float(mean_pressure([radius], height, amplitude, c_theta)[0]) / p0

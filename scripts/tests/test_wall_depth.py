@@ -29,7 +29,8 @@ H, BANDS = 15.0, 10
 
 
 def write(folder: Path, amplitude: float, rate: float, radius: float = 8.5, noise: float = 0.0, seed: int = 0,
-          cycles=(0,), peak: float = 100.0, profile: bool = True, angle: float = 0.0) -> Path:
+          cycles=(0,), peak: float = 100.0, profile: bool = True, angle: float = 0.0,
+          wall_friction: float | None = None, realization: int | None = None) -> Path:
     """A run folder whose wall_profile.csv holds Janssen's form averaged over each band
     (by quadrature, not by the module's closed form), plus normal noise of `noise` times
     the hydrostatic mean A H / 2 in every band (the fit's error bars assume one scatter)."""
@@ -47,9 +48,12 @@ def write(folder: Path, amplitude: float, rate: float, radius: float = 8.5, nois
         pd.DataFrame(rows).to_csv(folder / "wall_profile.csv", index=False)
     pd.DataFrame({"cycle": list(cycles), "peak_pressure": peak, "t_peak": 1.0}).to_csv(folder / "cycles.csv",
                                                                                       index=False)
-    (folder / "run.json").write_text(json.dumps({"status": "completed",
-                                                 "effective_scene": {"container": {"bottom_radius": radius,
-                                                                                   "opening_angle_deg": angle}}}))
+    scene = {"container": {"bottom_radius": radius, "opening_angle_deg": angle}}
+    if wall_friction is not None:
+        scene["materials"] = {"friction": 0.5, "wall_friction": wall_friction}
+    if realization is not None:
+        scene["seed"] = realization
+    (folder / "run.json").write_text(json.dumps({"status": "completed", "effective_scene": scene}))
     return folder
 
 
@@ -136,6 +140,79 @@ def test_the_tool_fits_the_angles_at_the_width_fits_c(tmp_path, capsys):
     assert main([folders[1], *leaning, "--out", str(tmp_path / "o2")]) == 2
     assert "the angle fit takes c from the width fit" in capsys.readouterr().err
     assert not (tmp_path / "o1").exists() and not (tmp_path / "o2").exists()
+
+
+def test_two_peaks_give_back_the_friction_and_k_and_predict_another_wall(tmp_path):
+    radius, height, amplitude, k, mu, theta = 8.5, 15.0, 1.8, 5.0, 0.2, 6.0
+    p0 = wall_depth.mean_pressure([radius], height, amplitude, 2 * mu * k)[0]
+    p6 = wall_depth.angle_pressure([theta], radius, height, amplitude, 2 * mu * k, mu)[0]
+    c0 = wall_depth.invert_c(p0, radius, height, amplitude)
+    # Exact peaks: brentq's tolerance (1e-14) and the closed forms' round-off only.
+    assert c0 == pytest.approx(2 * mu * k, rel=1e-10)
+    found_mu, found_k = wall_depth.friction_pair(c0, wall_depth.invert_c(p6, radius, height, amplitude), theta)
+    assert found_mu == pytest.approx(mu, rel=1e-9) and found_k == pytest.approx(k, rel=1e-9)
+    # At the same K a rougher wall (μ 0.3) raises the 0 deg peak, and its ratio follows from it.
+    q0 = wall_depth.mean_pressure([radius], height, amplitude, 2 * 0.3 * k)[0]
+    q6 = wall_depth.angle_pressure([theta], radius, height, amplitude, 2 * 0.3 * k, 0.3)[0]
+    assert q0 > p0
+    assert wall_depth.predicted_ratio(q0, theta, k, radius, height, amplitude) == pytest.approx(q6 / q0, rel=1e-9)
+    # Peaks below and above the hydrostatic half are both inverted (g spans (0, inf)).
+    for c in (-3.0, 0.0, 7.0):
+        p = wall_depth.mean_pressure([radius], height, amplitude, c)[0]
+        assert wall_depth.invert_c(p, radius, height, amplitude) == pytest.approx(c, abs=1e-9)
+    with pytest.raises(wall_depth.ProfileError, match="expected both positive"):
+        wall_depth.invert_c(-1.0, radius, height, amplitude)
+
+
+def friction_runs(tmp_path, wall: float, k_of_seed, mu_of_seed, radius=8.5, height=H, amplitude=1.0,
+                  seeds=(1, 2, 3)) -> list[str]:
+    """Runs at 0 and 6 deg of each seed at one wall friction, their peaks made from the form."""
+    specs = []
+    for s in seeds:
+        c = 2 * mu_of_seed(s) * k_of_seed(s)
+        for theta in (0.0, 6.0):
+            peak = wall_depth.angle_pressure([theta], radius, height, amplitude, c, mu_of_seed(s))[0]
+            folder = write(tmp_path / f"f{wall:g}_t{theta:g}_s{s}", 1.0, 0.1, radius=radius, angle=theta,
+                           profile=False, peak=peak, wall_friction=wall, realization=s)
+            specs.append(f"f{wall:g}_t{theta:g}_s{s}={folder}")
+    return specs
+
+
+def test_the_tool_tests_one_k_across_wall_frictions(tmp_path, capsys):
+    c = 2.0
+    widths = [f"w{r:g}={write(tmp_path / f'w{r:g}', 1.0, 0.1, radius=r, wall_friction=0.5, realization=1, peak=wall_depth.mean_pressure([r], H, 1.0, c)[0])}"
+              for r in (4.25, 6.0, 17.0)]
+    k_ref = {1: 5.0, 2: 5.2, 3: 4.9}
+    # μ K = c / 2 at every seed of the reference, so its 0 deg peaks lie on the width curve.
+    reference = friction_runs(tmp_path, 0.5, k_ref.get, lambda s: c / 2 / k_ref[s])
+    same_k = friction_runs(tmp_path, 1.0, k_ref.get, {1: 0.3, 2: 0.28, 3: 0.33}.get)
+    out = tmp_path / "out"
+    assert main([*widths, *reference, *same_k, "--out", str(out)]) == 0
+    result = json.loads((out / "wall_depth.json").read_text())["wall_friction"]
+    groups = {g["wall_friction"]: g for g in result["groups"]}
+    assert result["reference"] == 0.5 and sorted(groups) == [0.5, 1.0]
+    # Each realization's K and μ come back from its two exact peaks (A held at the width
+    # fit's, itself exact to its optimiser's 1e-5).
+    assert groups[0.5]["k_each"] == pytest.approx([5.0, 5.2, 4.9], rel=1e-4)
+    assert groups[1.0]["mu_each"] == pytest.approx([0.3, 0.28, 0.33], rel=1e-4)
+    # One K at both frictions: the prediction holds well within its error.
+    assert abs(groups[1.0]["z"]) < 1 and groups[1.0]["k_p"] > 0.9
+    assert "within two standard errors" in (out / "wall_depth.md").read_text()
+    # A wall that changes K is seen: the ratio departs from the prediction.
+    other = friction_runs(tmp_path / "other", 1.0, {1: 2.5, 2: 2.6, 3: 2.45}.get, {1: 0.6, 2: 0.56, 3: 0.66}.get)
+    assert main([*widths, *reference, *other, "--out", str(tmp_path / "out2")]) == 0
+    group = json.loads((tmp_path / "out2" / "wall_depth.json").read_text())["wall_friction"]["groups"][1]
+    assert group["z"] > 2 and group["k_p"] < 0.01
+    assert "does not hold at this friction" in (tmp_path / "out2" / "wall_depth.md").read_text()
+    capsys.readouterr()
+    # Refused: the same seed twice at one point, runs at other frictions at two radii.
+    again = write(tmp_path / "again", 1.0, 0.1, angle=6.0, profile=False, wall_friction=1.0, realization=1)
+    assert main([*widths, *reference, *same_k, f"again={again}", "--out", str(tmp_path / "o3")]) == 2
+    assert "are both seed 1 at the wall friction 1.0 and 6 deg" in capsys.readouterr().err
+    wide = write(tmp_path / "wide", 1.0, 0.1, radius=17.0, profile=False, wall_friction=1.0, realization=4)
+    assert main([*widths, *reference, *same_k, f"wide={wide}", "--out", str(tmp_path / "o4")]) == 2
+    assert "the test needs them at one radius" in capsys.readouterr().err
+    assert not (tmp_path / "o3").exists() and not (tmp_path / "o4").exists()
 
 
 def run_tool(*args):
