@@ -308,6 +308,8 @@ def _figure(runs: list[Run], cycle: int, widths: wall_depth.WidthFit | None, ang
         ax.errorbar([g["wall_friction"] for g in shown], [g["predicted_ratio"] for g in shown],
                     yerr=[g["predicted_se"] for g in shown], fmt="s", mfc="none", capsize=3,
                     label="the form at the reference's K")
+        if frictions["angle"] == 6.0:
+            ax.axhline(0.5, color="grey", ls=":", label="the paper's halving at 6 deg")
         ax.set_xlabel("the wall's friction (materials.wall_friction)")
         ax.set_ylabel(f"P({frictions['angle']:g} deg) / P(0 deg), cycle {cycle}")
         ax.legend(fontsize=7)
