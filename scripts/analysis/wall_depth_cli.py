@@ -227,7 +227,7 @@ def friction_test(runs: list[Run], widths: wall_depth.WidthFit | None, angle: fl
     ref = next((g for g in out if g["wall_friction"] == reference), None)
     for g in out:
         g.update(predicted_ratio=None, predicted_se=None, z=None, k_p=None)
-        if ref is None or g is ref or ref["k_se"] is None or g["peak_0_se"] is None:
+        if ref is None or g is ref or ref["k_se"] is None:
             continue
 
         def ratio_at(k, p0):
@@ -236,7 +236,7 @@ def friction_test(runs: list[Run], widths: wall_depth.WidthFit | None, angle: fl
         predicted = ratio_at(ref["k"], g["peak_0"])
         # One standard error of K and of the 0 deg mean, propagated by finite differences.
         dk = ratio_at(ref["k"] + ref["k_se"], g["peak_0"]) - predicted
-        dp = ratio_at(ref["k"], g["peak_0"] + g["peak_0_se"]) - predicted
+        dp = ratio_at(ref["k"], g["peak_0"] + g["peak_0_se"]) - predicted if g["peak_0_se"] is not None else 0.0
         g["predicted_ratio"], g["predicted_se"] = predicted, math.hypot(dk, dp)
         if g["ratio_se"] is not None:
             g["z"] = (g["ratio"] - predicted) / math.hypot(g["ratio_se"], g["predicted_se"])
@@ -457,8 +457,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     if angles is not None:
         print(f"wall-stress-depth: peaks against the angle: mu = {angles.mu:.3f} ± {angles.mu_se:.3f}")
     for g in (frictions or {}).get("groups", []):
-        test = (f", the form predicts {g['predicted_ratio']:.3f} ± {g['predicted_se']:.3f} (z = {g['z']:+.1f})"
-                if g["z"] is not None else "")
+        test = (f", the form predicts {g['predicted_ratio']:.3f} ± {g['predicted_se']:.3f}"
+                + (f" (z = {g['z']:+.1f})" if g["z"] is not None else " (one run: no z)")
+                if g["predicted_ratio"] is not None else "")
         print(f"wall-stress-depth: wall friction {g['wall_friction']}: ratio {_pm(g['ratio'], g['ratio_se'], '.3f')}, "
               f"K {_pm(g['k'], g['k_se'], '.2f')}{test}")
     print(f"wall-stress-depth: wrote {out / 'wall_depth.md'}, {out / 'wall_depth.json'}, "
