@@ -97,6 +97,11 @@ def _read(specs: Sequence[str], cycle: int) -> list[Run]:
     return out
 
 
+def _mean_se(x) -> tuple[float, float | None]:
+    x = np.asarray(x, float)
+    return float(x.mean()), (float(x.std(ddof=1) / math.sqrt(len(x))) if len(x) > 1 else None)
+
+
 def by_radius(fits: list[wall_depth.DepthFit]) -> dict[float, dict]:
     """Per container radius: the runs' mean a R and its standard error (None from one run)."""
     groups: dict[float, list[float]] = {}
@@ -104,16 +109,14 @@ def by_radius(fits: list[wall_depth.DepthFit]) -> dict[float, dict]:
         groups.setdefault(f.radius, []).append(f.rate_times_radius)
     out = {}
     for radius in sorted(groups):
-        x = np.array(groups[radius])
-        out[radius] = {"runs": len(x), "rate_times_radius": float(x.mean()),
-                       "se": float(x.std(ddof=1) / math.sqrt(len(x))) if len(x) > 1 else None}
+        mean, se = _mean_se(groups[radius])
+        out[radius] = {"runs": len(groups[radius]), "rate_times_radius": mean, "se": se}
     return out
 
 
 def profiles_c(fits: list[wall_depth.DepthFit]) -> tuple[float, float | None]:
     """The mean of a R over the profiled runs and its standard error (None from one run)."""
-    x = np.array([f.rate_times_radius for f in fits])
-    return float(x.mean()), (float(x.std(ddof=1) / math.sqrt(len(x))) if len(x) > 1 else None)
+    return _mean_se([f.rate_times_radius for f in fits])
 
 
 def reference_friction(runs: list[Run]) -> float | None:
@@ -170,11 +173,6 @@ def _angle_fit(runs: list[Run], widths: wall_depth.WidthFit | None) -> wall_dept
                                      widths.height, widths.c)
     except wall_depth.ProfileError as e:
         raise SystemExit(f"wall-stress-depth: {e}")
-
-
-def _mean_se(x) -> tuple[float, float | None]:
-    x = np.asarray(x, float)
-    return float(x.mean()), (float(x.std(ddof=1) / math.sqrt(len(x))) if len(x) > 1 else None)
 
 
 def friction_test(runs: list[Run], widths: wall_depth.WidthFit | None, angle: float) -> dict | None:
