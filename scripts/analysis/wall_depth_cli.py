@@ -133,8 +133,7 @@ def reference_friction(runs: list[Run]) -> float | None:
     return wide[0] if wide else (next(iter(spans)) if len(spans) == 1 else None)
 
 
-def _width_fit(runs: list[Run], height: float | None) -> wall_depth.WidthFit | None:
-    friction = reference_friction(runs)
+def _width_fit(runs: list[Run], height: float | None, friction: float | None) -> wall_depth.WidthFit | None:
     # The width relation is of upright cylinders, at one wall friction.
     runs = [r for r in runs if r.angle == 0 and r.wall_friction == friction]
     if len({r.radius for r in runs}) < 3:
@@ -150,10 +149,9 @@ def _width_fit(runs: list[Run], height: float | None) -> wall_depth.WidthFit | N
         raise SystemExit(f"wall-stress-depth: {e}")
 
 
-def _angle_fit(runs: list[Run], widths: wall_depth.WidthFit | None) -> wall_depth.AngleFit | None:
+def _angle_fit(runs: list[Run], widths: wall_depth.WidthFit | None, friction: float | None) -> wall_depth.AngleFit | None:
     """The angles' fit at the one radius of the runs with an opening angle, c from the widths
     (the runs at the width fit's wall friction)."""
-    friction = reference_friction(runs)
     runs = [r for r in runs if r.wall_friction == friction]
     leaning = [r for r in runs if r.angle != 0]
     if not leaning:
@@ -175,12 +173,12 @@ def _angle_fit(runs: list[Run], widths: wall_depth.WidthFit | None) -> wall_dept
         raise SystemExit(f"wall-stress-depth: {e}")
 
 
-def friction_test(runs: list[Run], widths: wall_depth.WidthFit | None, angle: float) -> dict | None:
+def friction_test(runs: list[Run], widths: wall_depth.WidthFit | None, angle: float,
+                  reference: float | None) -> dict | None:
     """Per wall friction, the realizations run at 0 deg and at `angle` at one radius: their
     peaks, the ratio of the mean peaks, and each realization's μ_w and K (A and H of the
     width fit held); against the reference friction's K, the ratio the form predicts from
     each other friction's 0 deg peak. None unless runs at a second wall friction are given."""
-    reference = reference_friction(runs)
     others = [r for r in runs if r.wall_friction != reference and r.angle in (0.0, angle)]
     if not others:
         return None
@@ -244,7 +242,7 @@ def friction_test(runs: list[Run], widths: wall_depth.WidthFit | None, angle: fl
 
 
 def _figure(runs: list[Run], cycle: int, widths: wall_depth.WidthFit | None, angles: wall_depth.AngleFit | None,
-            frictions: dict | None = None):
+            frictions: dict | None = None, friction: float | None = None):
     panels = 3 + (angles is not None) + (frictions is not None)
     fig, axes = plt.subplots(1, panels, figsize=(5.3 * panels, 4.8))
     left, middle, right = axes[:3]
@@ -272,7 +270,6 @@ def _figure(runs: list[Run], cycle: int, widths: wall_depth.WidthFit | None, ang
     middle.set_ylabel("a R = 2 μ_w K")
     middle.legend(fontsize=7)
     middle.set_title("growth rate times radius (fit's standard error)", fontsize=9)
-    friction = reference_friction(runs)
     upright = [r for r in runs if r.angle == 0 and r.wall_friction == friction]
     right.plot([r.radius for r in upright], [r.peak for r in upright], "o", label="each run at 0 deg")
     if widths is not None:
@@ -318,7 +315,8 @@ def _figure(runs: list[Run], cycle: int, widths: wall_depth.WidthFit | None, ang
 
 
 def _markdown(runs: list[Run], cycle: int, widths: wall_depth.WidthFit | None,
-              angles: wall_depth.AngleFit | None, frictions: dict | None = None) -> str:
+              angles: wall_depth.AngleFit | None, frictions: dict | None = None,
+              friction: float | None = None) -> str:
     lines = [f"# Side-wall stress against depth and width, cycle {cycle}", "",
              "σ_w(d) = A (e^{a d} - 1)/a fitted to each cold-hold profile's bands (band means; "
              "scripts/analysis/wall_depth.py says why): a > 0 the stress grows faster than the "
@@ -349,7 +347,6 @@ def _markdown(runs: list[Run], cycle: int, widths: wall_depth.WidthFit | None,
             spread = f" ± {se:.3f}" if se is not None else " (one run)"
             lines.append(f"The profiles' a R: {mean:.3f}{spread} (mean over {len(fits)} runs).")
         lines += ["", "| run | R | peak | A H g(c H / R) | ratio |", "|---|---|---|---|---|"]
-        friction = reference_friction(runs)
         upright = [r for r in runs if r.angle == 0 and r.wall_friction == friction]
         for r, predicted in zip(upright, widths.predicted):
             lines.append(f"| {r.label} | {r.radius:g} | {r.peak:.4g} | {predicted:.4g} | {r.peak / predicted:.2f} |")
@@ -415,9 +412,10 @@ def main(argv: Sequence[str] | None = None) -> int:
     try:
         args = _parse(argv)
         runs = _read(args.runs, args.cycle)
-        widths = _width_fit(runs, args.height)
-        angles = _angle_fit(runs, widths)
-        frictions = friction_test(runs, widths, args.pair_angle)
+        friction = reference_friction(runs)  # the width and angle fits' wall friction
+        widths = _width_fit(runs, args.height, friction)
+        angles = _angle_fit(runs, widths, friction)
+        frictions = friction_test(runs, widths, args.pair_angle, friction)
     except SystemExit as e:
         if isinstance(e.code, str):
             print(e.code, file=sys.stderr)
@@ -426,7 +424,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     fits = [r.fit for r in runs if r.fit is not None]
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
-    fig = _figure(runs, args.cycle, widths, angles, frictions)
+    fig = _figure(runs, args.cycle, widths, angles, frictions, friction)
     caption = (f"Side-wall stress against depth and width, cycle {args.cycle}: "
                + "; ".join(f"{r.label} (R {r.radius:g}) peak {r.peak:.3g}"
                            + (f", a R = {r.fit.rate_times_radius:+.2f}" if r.fit else "") for r in runs)
@@ -445,7 +443,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         "widths": widths.to_dict() if widths else None,
         "angles": angles.to_dict() if angles else None,
         "wall_friction": frictions}) + "\n")
-    write_atomic(out / "wall_depth.md", _markdown(runs, args.cycle, widths, angles, frictions))
+    write_atomic(out / "wall_depth.md", _markdown(runs, args.cycle, widths, angles, frictions, friction))
     for r in runs:
         text = (f"a = {r.fit.rate:+.4f} ± {r.fit.rate_se:.4f}, a R = {r.fit.rate_times_radius:+.3f}"
                 if r.fit else "no profile")
