@@ -83,7 +83,8 @@ const char* kUsage =
     "      result is the same, byte for byte, as if it had never stopped\n"
     "  ratchet pack SCENE.json --out FILE [--set key.path=value ...] [--quiet]\n"
     "      pour and settle the bed (until settle.ke_ratio, or up to thermal.start_time without a\n"
-    "      settle section); write the packing to FILE\n"
+    "      settle section); write the packing to FILE; stopped by SIGINT/SIGTERM or killed, the\n"
+    "      same command goes on from FILE.pour-checkpoint\n"
     "  ratchet bodies SCENE.json --out FILE.json [--set key.path=value ...] [--quiet]\n"
     "      build the scene as run does and write its bodies and shapes (poses, mass properties,\n"
     "      vertices) to FILE.json\n"
@@ -216,15 +217,14 @@ int sweep(const std::string& sweep_path, const std::string& out_dir, int jobs, i
     std::vector<int> my_packings;
     for (std::size_t k = 0; k < needed.size(); ++k)
       if (static_cast<int>(k % static_cast<std::size_t>(size)) == rank) my_packings.push_back(needed[k]);
+    // SIGINT/SIGTERM stop each pour and run under way at a checkpoint, and start no other.
+    ratchet::install_stop_handlers();
     if (!plan.packings.empty()) ratchet::make_packings(plan, my_packings, jobs, say, threads);
     if (mpi) MPI_Barrier(MPI_COMM_WORLD);
-    // From here SIGINT/SIGTERM stop each run at a checkpoint (the packings before are
-    // written atomically and made again when damaged: a signal there ends the process).
-    ratchet::install_stop_handlers();
     ratchet::run_sweep(plan, mine, jobs, say, threads);
     if (const int sig = ratchet::stop_signal(); sig != 0) {
       std::cerr << who << "stopped by " << ratchet::signal_name(sig)
-                << "; the runs under way kept their checkpoints: run the same command again to resume\n";
+                << "; the pours and runs under way kept their checkpoints: run the same command again to resume\n";
       status = 128 + sig;
     }
     if (mpi) MPI_Barrier(MPI_COMM_WORLD);
@@ -349,7 +349,14 @@ int run_or_pack(const bool pack, const SceneArgs& a) {
       const bool progress = !quiet && isatty(STDERR_FILENO);
       bool printed = false;
       nlohmann::json settle;
+      // A long pour keeps a checkpoint next to the packing and goes on from it when the
+      // same command runs again (run/pour_checkpoint.hpp).
+      const ratchet::PourCheckpointing checkpoints{ratchet::pour_checkpoint_path(out_dir),
+                                                   scene.outputs.checkpoint_every};
+      ratchet::install_stop_handlers();
       try {
+        const std::filesystem::path parent = std::filesystem::path(out_dir).parent_path();
+        if (!parent.empty()) std::filesystem::create_directories(parent);
         settle = ratchet::settle_world(world, [&](const ratchet::World& w) {
           const auto now = std::chrono::steady_clock::now();
           if (!progress || std::chrono::duration<double>(now - last).count() < 0.5) return;
@@ -362,16 +369,22 @@ int run_or_pack(const bool pack, const SceneArgs& a) {
           // Cut to the terminal and cleared to its end, as run's line (run/runner.hpp).
           std::fputs(ratchet::progress_line(scene.name + tail, ratchet::terminal_columns(STDERR_FILENO)).c_str(), stderr);
           std::fflush(stderr);
+        }, checkpoints, [&](const std::string& line) {
+          if (!quiet) std::cerr << "ratchet: " << scene.name << ": " << line << "\n";
         });
+      } catch (const ratchet::RunInterrupted& e) {
+        if (printed) std::fprintf(stderr, "\n");
+        std::cerr << "ratchet: " << e.what() << "; run the same command again to resume\n";
+        return 128 + e.signal;
       } catch (...) {
         if (printed) std::fprintf(stderr, "\n");  // the error starts a line of its own
         throw;
       }
       if (printed) std::fprintf(stderr, "\n");
       const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-      const std::filesystem::path parent = std::filesystem::path(out_dir).parent_path();
-      if (!parent.empty()) std::filesystem::create_directories(parent);
       ratchet::write_packing(out_dir, world, settle, {{"wall_seconds", seconds}});
+      std::error_code gone;
+      std::filesystem::remove(checkpoints.path, gone);  // the packing is written: the pour is done
       if (!quiet)
         std::cerr << "ratchet: " << scene.name << ": packing " << ratchet::packing_key(scene) << " at t = "
                   << ratchet::format_double(world.state().t) << " (step " << world.state().step << "), KE/KE_peak = "

@@ -254,7 +254,8 @@ class Runner:
             env = dict(os.environ, OMP_NUM_THREADS="1")   # the sweep sets each run's threads (--threads)
             proc = subprocess.Popen(command, stdout=log, stderr=subprocess.STDOUT, stdin=subprocess.DEVNULL,
                                     pass_fds=(fd,), env=env, **ENGINE_PROCESS)
-        how = "new" if progress.stage in ("not started", "pouring") else f"resumes: {progress.text()}"
+        fresh = progress.stage == "not started" or (progress.stage == "pouring" and progress.checkpoint is None)
+        how = "new" if fresh else f"resumes: {progress.text()}"
         stale = f"; rerun of a stale result ({state.verdict.reason})" if state.stale else ""
         self.say(f"start {state.run.label} ({how}{stale}); {hours(self.left())} of the budget left; "
                  f"log {folder.log}")

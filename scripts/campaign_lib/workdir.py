@@ -41,6 +41,8 @@ class Progress:
         return min(1.0, max(0.0, (self.checkpoint - self.first) / (self.total - self.first)))
 
     def text(self) -> str:
+        if self.stage == "pouring" and self.checkpoint is not None:
+            return f"pouring (its checkpoint at step {self.checkpoint})"
         if self.stage in ("not started", "pouring", "completed"):
             return self.stage
         if self.total:
@@ -147,7 +149,11 @@ class RunFolder:
         if status == "completed":
             return Progress("completed")
         if not self.run_dir.is_dir():
-            return Progress("pouring" if self.out.is_dir() else "not started")
+            if not self.out.is_dir():
+                return Progress("not started")
+            # A pour stopped at its checkpoint goes on from there (docs/cli.md, *Stopping and resuming*).
+            pours = [h for h in map(read_state_header, sorted((self.out / "packings").glob("*.pour-checkpoint"))) if h]
+            return Progress("pouring", checkpoint=max(step for _, step in pours) if pours else None)
         header = read_state_header(self.run_dir / "checkpoint.state")
         total, first, checkpoint = None, 0, None
         if header:

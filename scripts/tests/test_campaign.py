@@ -225,6 +225,32 @@ def test_budget_ending_mid_run_leaves_a_run_the_next_invocation_completes_with_t
     assert "run 0 resumes at step" in log
 
 
+POUR_SET = {**TINY_SET, "particles.generate.count": 60, "settle.ke_ratio": 1e-6, "outputs.checkpoint_every": 50}
+
+
+def test_budget_ending_in_the_pour_leaves_its_checkpoint_and_the_next_invocation_goes_on_from_it(tmp_path):
+    # A pour longer than the budget (a bed of 20,000 pours for over an hour): stopped at
+    # its checkpoint, resumed by the next invocation, stored with the bytes of a run that
+    # never stopped. 60 bodies settled to 1e-6 pour for seconds; the budget stops it
+    # after about half a second (a checkpoint every 50 steps).
+    plan = write_plan(tmp_path, name="pour", seed_list=(3,), angles=(0,), set=POUR_SET)
+    campaign(plan, tmp_path / "w_ref", tmp_path / "r_ref", *run_args())
+    first = campaign(plan, tmp_path / "w", tmp_path / "r", "--budget", f"{1.0 / 3600:.8f}", "--stop-margin", "0.5",
+                     "--golden-check", "skip", "--run-hours", "0.00001")
+    assert "stopping 1 run(s) with SIGTERM" in first.stdout, first.stdout
+    out = tmp_path / "w" / "runs" / "theta0" / "seed3" / "out"
+    assert len(list((out / "packings").glob("*.state.pour-checkpoint"))) == 1
+    assert not list((out / "packings").glob("*.state")) and not (out / "runs").exists()
+    status = campaign(plan, tmp_path / "w", tmp_path / "r", "--status")
+    assert "theta0/seed3" in status.stdout and "pouring (its checkpoint at step " in status.stdout, status.stdout
+
+    second = campaign(plan, tmp_path / "w", tmp_path / "r", *run_args())
+    assert "start theta0/seed3 (resumes: pouring (its checkpoint at step " in second.stdout, second.stdout
+    log = (tmp_path / "w" / "runs" / "theta0" / "seed3" / "engine.log").read_text()
+    assert ": resumes the pour from " in log
+    same_stored_bytes(tmp_path / "r" / "theta0" / "seed3", tmp_path / "r_ref" / "theta0" / "seed3")
+
+
 def fake_other_engine(results: Path, label: str, golden_check):
     path = results / label / "provenance.json"
     p = json.loads(path.read_text())

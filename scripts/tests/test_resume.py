@@ -173,3 +173,78 @@ def test_a_stopped_sweep_resumes_its_runs_from_their_checkpoints(tmp_path):
     assert "run 0 resumes at step " in again.stderr
     assert (out / "summary.csv").read_bytes() == (whole / "summary.csv").read_bytes()
     assert_same_run(whole / "runs" / "0", run0)
+
+
+def state_of(packing: Path) -> bytes:
+    """The State of a state file (docs/output-format.md, *State files*): the bytes between
+    the metadata (its length at offset 12) and the checksum; the metadata holds the pour's
+    wall seconds, which differ from pour to pour."""
+    data = packing.read_bytes()
+    meta = int.from_bytes(data[12:16], "little")
+    return data[40 + meta:-8]
+
+
+def stop_once_exists(args, path: Path, sig: int, timeout: float = 120.0) -> subprocess.CompletedProcess:
+    """Starts the command and sends `sig` once `path` exists."""
+    proc = subprocess.Popen(args, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    deadline = time.monotonic() + timeout
+    while not path.exists() and proc.poll() is None and time.monotonic() < deadline:
+        time.sleep(0.005)
+    assert proc.poll() is None, "the command ended before the signal could be sent: checkpoint the pour more often"
+    proc.send_signal(sig)
+    stdout, stderr = proc.communicate(timeout=timeout)
+    return subprocess.CompletedProcess(args, proc.returncode, stdout, stderr)
+
+
+def test_a_stopped_pack_goes_on_from_its_pour_checkpoint_to_the_same_packing(tmp_path):
+    """`ratchet pack` stopped by SIGTERM during the pour keeps FILE.pour-checkpoint and no
+    packing; the same command again resumes the pour there and writes the packing of a
+    pour never stopped (the same State bytes), then removes the checkpoint."""
+    every = ["--set", "outputs.checkpoint_every=500"]  # the pour is about 3900 steps
+    whole = tmp_path / "whole.state"
+    subprocess.run([str(RATCHET), "pack", str(SCENE), "--out", str(whole), *every], check=True,
+                   capture_output=True, text=True, timeout=300)
+    packing = tmp_path / "stopped.state"
+    checkpoint = tmp_path / "stopped.state.pour-checkpoint"
+    args = [str(RATCHET), "pack", str(SCENE), "--out", str(packing), *every]
+    stopped = stop_once_exists(args, checkpoint, signal.SIGTERM)
+    assert stopped.returncode == 128 + signal.SIGTERM, stopped.stderr
+    assert "the pour stopped by SIGTERM at step " in stopped.stderr
+    assert "run the same command again to resume" in stopped.stderr
+    assert checkpoint.is_file() and not packing.exists()
+
+    again = subprocess.run(args, capture_output=True, text=True, timeout=300)
+    assert again.returncode == 0, again.stderr
+    assert f"resumes the pour from {checkpoint} at step " in again.stderr
+    assert state_of(packing) == state_of(whole)
+    assert not checkpoint.exists()
+
+
+def test_a_sweep_stopped_in_its_pour_goes_on_from_the_pour_checkpoint(tmp_path):
+    """A sweep stopped by SIGINT while it makes its packing starts no run; run again, it
+    resumes the pour and its summary equals that of a sweep never stopped."""
+    scene = json.loads(SCENE.read_text())
+    scene["outputs"]["checkpoint_every"] = 500
+    scene["thermal"]["cycles"] = 1
+    (tmp_path / "bed.json").write_text(json.dumps(scene))
+    (tmp_path / "sweep.json").write_text(json.dumps({"scene": "bed.json", "realizations": 1}))
+
+    def sweep_args(out):
+        return [str(RATCHET), "sweep", str(tmp_path / "sweep.json"), "--out", str(out), "--jobs", "1"]
+
+    whole = tmp_path / "whole"
+    subprocess.run(sweep_args(whole), check=True, capture_output=True, text=True, timeout=600)
+    (key,) = [p.name.removesuffix(".state") for p in (whole / "packings").glob("*.state")]
+    out = tmp_path / "stopped"
+    checkpoint = out / "packings" / f"{key}.state.pour-checkpoint"
+    stopped = stop_once_exists(sweep_args(out), checkpoint, signal.SIGINT)
+    assert stopped.returncode == 128 + signal.SIGINT, stopped.stderr
+    assert "the pour stopped by SIGINT" in stopped.stderr
+    assert not (out / "runs" / "0" / "run.json").exists()  # no run started after the signal
+
+    again = subprocess.run(sweep_args(out), capture_output=True, text=True, timeout=600)
+    assert again.returncode == 0, again.stderr
+    assert f"packing {key}: resumes the pour from " in again.stderr
+    assert state_of(out / "packings" / f"{key}.state") == state_of(whole / "packings" / f"{key}.state")
+    assert (out / "summary.csv").read_bytes() == (whole / "summary.csv").read_bytes()
+    assert not checkpoint.exists()

@@ -12,6 +12,8 @@ namespace {
 
 constexpr const char* kKind = "ratchet run checkpoint";
 
+}  // namespace
+
 nlohmann::json progress_json(const WorldProgress& p) {
   nlohmann::json seconds = nlohmann::json::array(), calls = nlohmann::json::array();
   for (std::size_t k = 0; k < p.timers.seconds.size(); ++k) {
@@ -52,8 +54,6 @@ WorldProgress progress_from_json(const nlohmann::json& j) {
   }
   return p;
 }
-
-}  // namespace
 
 void write_checkpoint(const std::string& dir, const World& world, const nlohmann::json& run) {
   const SceneDef& s = world.scene();

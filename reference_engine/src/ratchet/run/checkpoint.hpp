@@ -40,4 +40,10 @@ ResumePoint read_checkpoint(const std::string& dir);
 // Puts a world fresh from point.scene at the checkpoint: its state and progress.
 void resume_world(World& world, const ResumePoint& point);
 
+// The world's progress (stage, step count, solver totals, phase timers) as a checkpoint
+// stores it, and back (std::runtime_error for timers of another engine); the pour's
+// checkpoint (run/pour_checkpoint.hpp) stores it the same way.
+nlohmann::json progress_json(const WorldProgress& p);
+WorldProgress progress_from_json(const nlohmann::json& j);
+
 }  // namespace ratchet

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
+#include <optional>
 #include <sstream>
 
 #include "ratchet/io/json_numbers.hpp"
@@ -10,6 +12,7 @@
 #include "ratchet/run/run_output.hpp"
 #include "ratchet/run/runner.hpp"
 #include "ratchet/run/state_bounds.hpp"
+#include "ratchet/run/stop_request.hpp"
 #include "ratchet/run/time_marks.hpp"
 
 namespace ratchet {
@@ -178,13 +181,22 @@ json SettleMonitor::record() const {
               {"t_settled", check && below_ ? json(t_) : json(nullptr)}};
 }
 
-json settle_world(World& world, const std::function<void(const World&)>& each_step) {
+namespace {
+
+// The settle stage's steps from where the world and the monitor are, with the pour's
+// checkpoints (settle_world).
+void pour(World& world, SettleMonitor& monitor, const std::function<void(const World&)>& each_step,
+          const PourCheckpointing& checkpoints) {
   const SceneDef& s = world.scene();
-  if (!has_settle_stage(s))
-    throw std::invalid_argument(s.source + ": field 'thermal': expected a thermal section (a packing is the bed at "
-                                           "the end of the settle stage)");
-  SettleMonitor monitor(world);
   while (!monitor.done()) {
+    if (!checkpoints.path.empty()) {
+      if (const int sig = stop_signal(); sig != 0) {
+        write_pour_checkpoint(checkpoints.path, world, monitor.save());
+        throw RunInterrupted(s.source + ": the pour stopped by " + signal_name(sig) + " at step " +
+                                 std::to_string(world.state().step) + ", its checkpoint in " + checkpoints.path,
+                             sig);
+      }
+    }
     world.step();
     if (!std::isfinite(kinetic_energy(world.scene(), world.state())))
       throw RunError(s.source + ": the state became non-finite at step " + std::to_string(world.state().step) +
@@ -195,6 +207,43 @@ json settle_world(World& world, const std::function<void(const World&)>& each_st
                      "; the time step may be too large for the speeds of the pour");
     monitor.after_step(world);
     if (each_step) each_step(world);
+    if (!checkpoints.path.empty() && checkpoints.every > 0 && !monitor.done() &&
+        world.state().step % checkpoints.every == 0)
+      write_pour_checkpoint(checkpoints.path, world, monitor.save());
+  }
+}
+
+}  // namespace
+
+json settle_world(World& world, const std::function<void(const World&)>& each_step,
+                  const PourCheckpointing& checkpoints, const std::function<void(const std::string&)>& note) {
+  const SceneDef& s = world.scene();
+  if (!has_settle_stage(s))
+    throw std::invalid_argument(s.source + ": field 'thermal': expected a thermal section (a packing is the bed at "
+                                           "the end of the settle stage)");
+  std::optional<SettleMonitor> resumed;
+  if (!checkpoints.path.empty()) {
+    std::string why_not;
+    const json saved = resume_pour(checkpoints.path, world, &why_not);
+    if (!saved.is_null()) {
+      resumed.emplace(world, saved);
+      if (note) note("resumes the pour from " + checkpoints.path + " at step " + std::to_string(world.state().step));
+    } else if (!why_not.empty() && note) {
+      note("not resuming the pour: " + why_not + "; pouring from the start");
+    }
+  }
+  SettleMonitor monitor = resumed ? *resumed : SettleMonitor(world);
+  try {
+    pour(world, monitor, each_step, checkpoints);
+  } catch (const RunInterrupted&) {
+    throw;
+  } catch (...) {
+    // A pour that failed fails again from its checkpoint: nothing there to go on from.
+    if (!checkpoints.path.empty()) {
+      std::error_code gone;
+      std::filesystem::remove(checkpoints.path, gone);
+    }
+    throw;
   }
   return monitor.record();
 }

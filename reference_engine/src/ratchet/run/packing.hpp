@@ -14,6 +14,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "ratchet/run/pour_checkpoint.hpp"
 #include "ratchet/world/world.hpp"
 
 namespace ratchet {
@@ -61,8 +62,15 @@ class SettleMonitor {
 };
 
 // Steps `world` (fresh from its scene) to the end of the settle stage and returns the
-// settle record. `each_step` is called after every step (progress).
-nlohmann::json settle_world(World& world, const std::function<void(const World&)>& each_step = {});
+// settle record. `each_step` is called after every step (progress). With a checkpoint
+// path (run/pour_checkpoint.hpp) the pour first goes on from the checkpoint there, if it
+// is this pour's, writes one every `checkpoints.every` steps, and on a stop request
+// (run/stop_request.hpp) writes one and throws RunInterrupted; `note` hears which
+// checkpoint was resumed or why one was not used. The caller removes the checkpoint once
+// the packing is written.
+nlohmann::json settle_world(World& world, const std::function<void(const World&)>& each_step = {},
+                            const PourCheckpointing& checkpoints = {},
+                            const std::function<void(const std::string&)>& note = {});
 
 // Writes the world's state as the scene's packing (atomic). `info` goes into the
 // file's metadata next to the key, the packing scene and the settle record.

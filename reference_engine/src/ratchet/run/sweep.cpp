@@ -242,21 +242,32 @@ void make_packings(const SweepPlan& plan, const std::vector<int>& indices, int j
 #ifdef _OPENMP
     omp_set_num_threads(threads_per_run);
 #endif
-    for (std::size_t k = next++; k < todo.size(); k = next++) {
+    for (std::size_t k = next++; k < todo.size() && stop_signal() == 0; k = next++) {
       const SweepPacking& p = plan.packings[static_cast<std::size_t>(todo[k])];
       const SweepRun& run = plan.runs[static_cast<std::size_t>(p.runs.front())];
       std::string line;
       try {
         const auto t0 = std::chrono::steady_clock::now();
         World world(build_scene(run.scene, plan.source + " run " + std::to_string(run.id)));
-        const json settle = settle_world(world);
+        // A pour keeps a checkpoint next to its packing and a stopped sweep goes on from it
+        // (run/pour_checkpoint.hpp).
+        const PourCheckpointing checkpoints{pour_checkpoint_path(packing_path(plan, p.key)),
+                                            world.scene().outputs.checkpoint_every};
+        const json settle = settle_world(world, {}, checkpoints, [&](const std::string& note) {
+          std::lock_guard<std::mutex> lock(mutex);
+          if (progress) progress("packing " + p.key + ": " + note);
+        });
         const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         write_packing(packing_path(plan, p.key), world, settle, {{"wall_seconds", seconds}});
+        std::error_code gone;
+        fs::remove(checkpoints.path, gone);  // the packing is written: the pour is done
         std::ostringstream s;
         s << "packing " << p.key << " (seed " << run.seed << ", runs " << id_list(p.runs) << ") done in "
           << std::round(seconds) << " s, t = " << format_double(world.state().t);
         if (settle.at("ke_ratio").is_number()) s << ", KE/KE_peak = " << settle.at("ke_ratio").get<double>();
         line = s.str();
+      } catch (const RunInterrupted& e) {
+        line = "packing " + p.key + ": " + e.what();
       } catch (const std::exception& e) {
         line = "packing " + p.key + " FAILED: " + e.what();
       }
