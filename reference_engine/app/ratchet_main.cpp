@@ -351,8 +351,7 @@ int run_or_pack(const bool pack, const SceneArgs& a) {
       nlohmann::json settle;
       // A long pour keeps a checkpoint next to the packing and goes on from it when the
       // same command runs again (run/pour_checkpoint.hpp).
-      const ratchet::PourCheckpointing checkpoints{ratchet::pour_checkpoint_path(out_dir),
-                                                   scene.outputs.checkpoint_every};
+      const ratchet::PourCheckpointing checkpoints = ratchet::pour_checkpointing(out_dir, scene);
       ratchet::install_stop_handlers();
       try {
         const std::filesystem::path parent = std::filesystem::path(out_dir).parent_path();
@@ -383,8 +382,7 @@ int run_or_pack(const bool pack, const SceneArgs& a) {
       if (printed) std::fprintf(stderr, "\n");
       const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       ratchet::write_packing(out_dir, world, settle, {{"wall_seconds", seconds}});
-      std::error_code gone;
-      std::filesystem::remove(checkpoints.path, gone);  // the packing is written: the pour is done
+      ratchet::remove_pour_checkpoint(checkpoints);  // the packing is written: the pour is done
       if (!quiet)
         std::cerr << "ratchet: " << scene.name << ": packing " << ratchet::packing_key(scene) << " at t = "
                   << ratchet::format_double(world.state().t) << " (step " << world.state().step << "), KE/KE_peak = "

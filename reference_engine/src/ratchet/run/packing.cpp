@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <filesystem>
 #include <optional>
 #include <sstream>
 
@@ -238,11 +237,7 @@ json settle_world(World& world, const std::function<void(const World&)>& each_st
   } catch (const RunInterrupted&) {
     throw;
   } catch (...) {
-    // A pour that failed fails again from its checkpoint: nothing there to go on from.
-    if (!checkpoints.path.empty()) {
-      std::error_code gone;
-      std::filesystem::remove(checkpoints.path, gone);
-    }
+    remove_pour_checkpoint(checkpoints);  // a failed pour fails again from it: nothing to go on from
     throw;
   }
   return monitor.record();

@@ -15,6 +15,16 @@ constexpr const char* kKind = "ratchet pour checkpoint";
 
 std::string pour_checkpoint_path(const std::string& packing_path) { return packing_path + ".pour-checkpoint"; }
 
+PourCheckpointing pour_checkpointing(const std::string& packing_path, const SceneDef& scene) {
+  return {pour_checkpoint_path(packing_path), scene.outputs.checkpoint_every};
+}
+
+void remove_pour_checkpoint(const PourCheckpointing& checkpoints) {
+  if (checkpoints.path.empty()) return;
+  std::error_code gone;
+  std::filesystem::remove(checkpoints.path, gone);
+}
+
 void write_pour_checkpoint(const std::string& path, const World& world, const nlohmann::json& monitor) {
   const SceneDef& s = world.scene();
   StateFile f;

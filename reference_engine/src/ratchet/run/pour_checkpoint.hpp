@@ -24,6 +24,13 @@ struct PourCheckpointing {
   int every = 0;     // steps between periodic checkpoints; 0: only when stopped
 };
 
+// The checkpointing of the pour that makes `packing_path` for `scene`: next to the packing,
+// every outputs.checkpoint_every steps.
+PourCheckpointing pour_checkpointing(const std::string& packing_path, const SceneDef& scene);
+
+// Removes the pour's checkpoint, if any (the packing is written, or the pour failed).
+void remove_pour_checkpoint(const PourCheckpointing& checkpoints);
+
 // Writes the pour's checkpoint atomically; `monitor` is SettleMonitor::save().
 void write_pour_checkpoint(const std::string& path, const World& world, const nlohmann::json& monitor);
 

@@ -251,16 +251,14 @@ void make_packings(const SweepPlan& plan, const std::vector<int>& indices, int j
         World world(build_scene(run.scene, plan.source + " run " + std::to_string(run.id)));
         // A pour keeps a checkpoint next to its packing and a stopped sweep goes on from it
         // (run/pour_checkpoint.hpp).
-        const PourCheckpointing checkpoints{pour_checkpoint_path(packing_path(plan, p.key)),
-                                            world.scene().outputs.checkpoint_every};
+        const PourCheckpointing checkpoints = pour_checkpointing(packing_path(plan, p.key), world.scene());
         const json settle = settle_world(world, {}, checkpoints, [&](const std::string& note) {
           std::lock_guard<std::mutex> lock(mutex);
           if (progress) progress("packing " + p.key + ": " + note);
         });
         const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         write_packing(packing_path(plan, p.key), world, settle, {{"wall_seconds", seconds}});
-        std::error_code gone;
-        fs::remove(checkpoints.path, gone);  // the packing is written: the pour is done
+        remove_pour_checkpoint(checkpoints);  // the packing is written: the pour is done
         std::ostringstream s;
         s << "packing " << p.key << " (seed " << run.seed << ", runs " << id_list(p.runs) << ") done in "
           << std::round(seconds) << " s, t = " << format_double(world.state().t);
