@@ -293,8 +293,14 @@ def main(argv=None) -> int:
         why = (f"its source hash {engine.source_hash} is not that of the engine sources here ({engine.sources_hash})"
                if engine.source_hash else f"{len(engine.stale)} engine source file(s) are newer than it (e.g. "
                f"{shown(engine.stale[0])})")
-        say(f"warning: {shown(engine.binary)} was not built from this checkout's engine sources: {why}; the engine is "
-            "named by the binary's SHA-256, not by its sources' commit (engine_dirty); rebuild unless that is meant")
+        if engine.built_at:
+            say(f"note: {shown(engine.binary)} was not built from this checkout's engine sources ({why}) but at commit "
+                f"{engine.built_at[:10]}, whose engine sources give its source hash: the engine is named by them "
+                f"(engine_commit {engine.short}, built_at)")
+        else:
+            say(f"warning: {shown(engine.binary)} was not built from this checkout's engine sources: {why}; the engine "
+                "is named by the binary's SHA-256, not by its sources' commit (engine_dirty); rebuild unless that is "
+                "meant")
     golden_now = golden.cached(work, engine)
     states = state.survey(plan, work, results, engine, golden_now)
     estimate = state.estimate(plan, states, engine, args.run_hours, args.threads)

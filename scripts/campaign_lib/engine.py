@@ -34,12 +34,12 @@ def git(*args, repo=REPO_ROOT) -> str | None:
     return done.stdout.strip() if done.returncode == 0 else None
 
 
-def sources_state(paths, repo=REPO_ROOT) -> dict:
-    """The last commit touching `paths`, a hash of their trees at HEAD and whether they
-    differ from HEAD (untracked files included)."""
-    commit = git("log", "-1", "--format=%H", "--", *paths, repo=repo)
-    trees = [git("rev-parse", f"HEAD:{p}", repo=repo) or "-" for p in paths]
-    status = git("status", "--porcelain", "--", *paths, repo=repo)
+def sources_state(paths, repo=REPO_ROOT, rev: str = "HEAD") -> dict:
+    """The last commit touching `paths` up to `rev`, a hash of their trees at `rev` and, at
+    HEAD, whether the checkout differs from it (untracked files included)."""
+    commit = git("log", "-1", "--format=%H", rev, "--", *paths, repo=repo)
+    trees = [git("rev-parse", f"{rev}:{p}", repo=repo) or "-" for p in paths]
+    status = git("status", "--porcelain", "--", *paths, repo=repo) if rev == "HEAD" else ""
     tree = hashlib.sha256(" ".join(trees).encode()).hexdigest()[:40] if commit else None
     return {"commit": commit, "tree": tree, "dirty": status is None or bool(status)}
 
@@ -64,6 +64,7 @@ class Engine:
     stale: tuple = ()   # engine source files newer than a binary that cannot say its sources
     source_hash: str | None = None   # the binary's, from `--version` (None: too old to say)
     sources_hash: str | None = None  # the checkout's, computed as the build does (source_hash)
+    built_at: str | None = None      # a binary built elsewhere: the commit it was built at, checked (build_commit)
 
     @property
     def built_elsewhere(self) -> bool:
@@ -74,7 +75,8 @@ class Engine:
     @property
     def key(self) -> str:
         """Names the engine for work-folder reuse (checkpoints, packings): the source tree
-        when clean, else the binary itself."""
+        when clean (the checkout's, or the commit a binary built elsewhere was built at),
+        else the binary itself."""
         return f"tree-{self.tree[:16]}" if self.tree and not self.dirty else f"bin-{self.binary_sha256[:16]}"
 
     @property
@@ -85,7 +87,7 @@ class Engine:
         return {"binary": shown(self.binary), "version": self.version, "binary_sha256": self.binary_sha256,
                 "repo_head": self.repo_head, "engine_commit": self.commit, "engine_tree": self.tree,
                 "engine_dirty": self.dirty, "engine_sources": list(ENGINE_SOURCES),
-                "source_hash": self.source_hash}
+                "source_hash": self.source_hash, **({"built_at": self.built_at} if self.built_at else {})}
 
 
 def version_of(binary: Path, option: str) -> str:
@@ -124,6 +126,22 @@ def build_facts(version: str) -> dict:
     return facts
 
 
+HASHED_TOPS = ("reference_engine/src", "reference_engine/app")
+HASHED_FILES = ("CMakeLists.txt", "reference_engine/CMakeLists.txt")
+
+
+def hashed(path: str) -> bool:
+    return path in HASHED_FILES or (path.endswith((".cpp", ".hpp"))
+                                    and any(path.startswith(top + "/") for top in HASHED_TOPS))
+
+
+def listing_hash(build_type: str, compiler: str, digests: dict) -> str:
+    """reference_engine/cmake/build_info.cmake's hash of {path: SHA-256 of the file}."""
+    listing = f"build_type {build_type}\ncompiler {compiler}\n"
+    listing += "".join(f"{digests[f]} {f}\n" for f in sorted(digests))
+    return hashlib.sha256(listing.encode()).hexdigest()[:16]
+
+
 def source_hash(build_type: str, compiler: str, root: Path = REPO_ROOT) -> str:
     """The source hash a build of `root` would print, as reference_engine/cmake/
     build_info.cmake computes it: SHA-256 over the build type, the compiler and
@@ -131,17 +149,54 @@ def source_hash(build_type: str, compiler: str, root: Path = REPO_ROOT) -> str:
     under reference_engine/src and app) and the two CMakeLists.txt, sorted by path;
     its first 16 hex digits. Both sides must change together (test_campaign.py checks
     that they agree on the build)."""
-    files = [p.relative_to(root).as_posix() for top in ("reference_engine/src", "reference_engine/app")
+    files = [p.relative_to(root).as_posix() for top in HASHED_TOPS
              for pattern in ("*.cpp", "*.hpp") for p in (root / top).rglob(pattern) if p.is_file()]
-    files = sorted(files + ["CMakeLists.txt", "reference_engine/CMakeLists.txt"])
-    listing = f"build_type {build_type}\ncompiler {compiler}\n"
-    listing += "".join(f"{file_sha256(root / f)} {f}\n" for f in files)
-    return hashlib.sha256(listing.encode()).hexdigest()[:16]
+    return listing_hash(build_type, compiler, {f: file_sha256(root / f) for f in files + list(HASHED_FILES)})
 
 
-def identify(ratchet: str | os.PathLike | None = None) -> Engine:
+def source_hash_at(rev: str, build_type: str, compiler: str, repo: Path = REPO_ROOT) -> str | None:
+    """The source hash a build of commit `rev`'s tracked files would print (None: no such
+    commit here, or git cannot say)."""
+    listed = git("ls-tree", "-r", "--full-tree", rev, "--", *HASHED_TOPS, *HASHED_FILES, repo=repo)
+    if not listed:
+        return None
+    blobs = {}
+    for line in listed.splitlines():
+        meta, path = line.split("\t", 1)
+        kind, oid = meta.split()[1:3]
+        if kind == "blob" and hashed(path):
+            blobs[path] = oid
+    try:
+        done = subprocess.run(["git", "-C", os.fspath(repo), "cat-file", "--batch"], capture_output=True,
+                              input="".join(f"{oid}\n" for oid in blobs.values()).encode(), timeout=60, check=True)
+    except (OSError, subprocess.SubprocessError):
+        return None
+    out, at, digests = done.stdout, 0, {}
+    for path in blobs:              # each answer: "<oid> blob <size>\n<content>\n", in the order asked
+        header_end = out.index(b"\n", at)
+        size = int(out[at:header_end].split()[2])
+        digests[path] = hashlib.sha256(out[header_end + 1:header_end + 1 + size]).hexdigest()
+        at = header_end + 1 + size + 1
+    return listing_hash(build_type, compiler, digests)
+
+
+def build_commit(facts: dict, built: str | None, repo: Path = REPO_ROOT) -> str | None:
+    """The commit a binary says it was built at ("commit: X", without "+modified"), when
+    that commit's engine sources give the binary's source hash: then the binary is that
+    commit's engine, wherever the checkout is now. None otherwise."""
+    commit = facts.get("commit", "")
+    if not built or not commit or commit == "unknown" or commit.endswith("+modified"):
+        return None
+    if git("cat-file", "-e", f"{commit}^{{commit}}", repo=repo) is None:     # not in this repository
+        return None
+    at = source_hash_at(commit, facts.get("build type", ""), facts.get("compiler", ""), repo)
+    return commit if at == built else None
+
+
+def identify(ratchet: str | os.PathLike | None = None, repo: Path = REPO_ROOT) -> Engine:
     """The engine `ratchet` (--ratchet), else the build's (ratchet.program: $RATCHET_BIN,
-    else <$RATCHET_BUILD_DIR or build>/reference_engine/ratchet)."""
+    else <$RATCHET_BUILD_DIR or build>/reference_engine/ratchet), named against the
+    checkout `repo`."""
     try:
         binary = program(ratchet)
     except ProgramNotFound as e:
@@ -149,18 +204,25 @@ def identify(ratchet: str | os.PathLike | None = None) -> Engine:
                           "-DRATCHET_BUILD_BENCHMARKS=OFF)") from None
     version = version_of(binary, "--ratchet")
     facts = build_facts(version)
-    state = sources_state(ENGINE_SOURCES)
-    # A binary not built from the sources beside it is not named by their tree: the
-    # record and the reuse key fall back to its SHA-256. The binary's source hash says
-    # so exactly; for an older binary that cannot say, a source newer than it does.
+    state = sources_state(ENGINE_SOURCES, repo=repo)
+    # A binary not built from the sources beside it is not named by their tree. The
+    # binary's source hash says so exactly; for an older binary that cannot say, a source
+    # newer than it does. If the commit it says it was built at is here and gives its
+    # source hash, it is named by that commit's sources; else by its SHA-256.
     if "source hash" in facts:
-        built, ours, stale = facts["source hash"], source_hash(facts.get("build type", ""), facts.get("compiler", "")), ()
+        built, ours, stale = facts["source hash"], source_hash(facts.get("build type", ""), facts.get("compiler", ""),
+                                                           repo), ()
     else:
-        built, ours, stale = None, None, tuple(stale_sources(binary))
+        built, ours, stale = None, None, tuple(stale_sources(binary, repo))
+    elsewhere, at = built_elsewhere(built, ours, stale), None
+    if elsewhere:
+        at = build_commit(facts, built, repo)
+        if at:
+            state = sources_state(ENGINE_SOURCES, repo=repo, rev=at)
     return Engine(binary=binary, version=version_line(version), binary_sha256=file_sha256(binary),
-                  repo_head=git("rev-parse", "HEAD"), commit=state["commit"], tree=state["tree"],
-                  dirty=state["dirty"] or built_elsewhere(built, ours, stale), stale=stale, source_hash=built,
-                  sources_hash=ours)
+                  repo_head=git("rev-parse", "HEAD", repo=repo), commit=state["commit"], tree=state["tree"],
+                  dirty=state["dirty"] or (elsewhere and not at), stale=stale, source_hash=built,
+                  sources_hash=ours, built_at=at)
 
 
 def same_engine(a: dict, b: dict) -> bool:
@@ -172,7 +234,7 @@ def same_engine(a: dict, b: dict) -> bool:
             and not a.get("engine_dirty", True) and not b.get("engine_dirty", True))
 
 
-def stale_sources(binary: Path) -> list:
+def stale_sources(binary: Path, repo: Path = REPO_ROOT) -> list:
     """Engine source files newer than the binary (a build that may not be the sources')."""
     try:
         built = Path(binary).stat().st_mtime
@@ -180,7 +242,7 @@ def stale_sources(binary: Path) -> list:
         return []
     newer = []
     for top in ENGINE_SOURCES:
-        root = REPO_ROOT / top
+        root = repo / top
         files = [root] if root.is_file() else [p for p in root.rglob("*") if p.is_file()]
         newer += [p for p in files if p.stat().st_mtime > built]
     return newer

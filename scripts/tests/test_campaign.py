@@ -608,6 +608,54 @@ def test_a_binary_built_from_other_sources_is_named_by_its_sha256(tmp_path):
     assert not new.stale and not new.built_elsewhere and new.dirty == real.dirty
 
 
+def test_a_binary_built_at_an_earlier_commit_is_named_by_that_commits_sources(tmp_path):
+    # A binary kept from an earlier build (out/bin/ratchet-<commit>) says the commit it was
+    # built at; when that commit's engine sources give the binary's source hash it is that
+    # commit's engine, not a "+dirty" HEAD (a stored run once named the checkout's later
+    # commit so), and its work-folder key is the same tree key it had when it was current.
+    from campaign_lib.engine import source_hash, source_hash_at
+    repo = tmp_path / "repo"
+
+    def commit(files: dict) -> str:
+        for path, text in files.items():
+            (repo / path).parent.mkdir(parents=True, exist_ok=True)
+            (repo / path).write_text(text)
+        subprocess.run(["git", "-C", str(repo), "add", "-A"], check=True)
+        subprocess.run(["git", "-C", str(repo), "-c", "user.name=t", "-c", "user.email=t@t", "commit", "-qm", "c"],
+                       check=True)
+        return subprocess.run(["git", "-C", str(repo), "rev-parse", "HEAD"], capture_output=True, text=True,
+                              check=True).stdout.strip()
+
+    subprocess.run(["git", "init", "-q", str(repo)], check=True)
+    first = commit({"CMakeLists.txt": "project(x)\n", "reference_engine/CMakeLists.txt": "add_library(r)\n",
+                    "reference_engine/src/r/a.cpp": "int a;\n", "reference_engine/src/r/a.hpp": "int a();\n",
+                    "reference_engine/app/main.cpp": "int main(){}\n", "reference_engine/src/notes.md": "not hashed\n"})
+    real = identify(RATCHET)
+    facts = dict(line.split(": ", 1) for line in version_lines(RATCHET))
+    build_type, compiler = real.version[real.version.rindex("(") + 1:-1], facts["compiler"]
+    first_hash = source_hash(build_type, compiler, repo)
+    assert source_hash_at(first, build_type, compiler, repo) == first_hash   # git's blobs hash as the files do
+    first_tree = sources_state(ENGINE_SOURCES, repo=repo)["tree"]
+    later = commit({"reference_engine/src/r/a.cpp": "int a = 1;\n"})
+    assert source_hash_at(later, build_type, compiler, repo) == source_hash(build_type, compiler, repo) != first_hash
+
+    def stand_in(name: str, commit_line: str, hash_: str) -> Path:
+        return stand_in_engine(tmp_path / name, f"{real.version}\ncommit: {commit_line}\nsource hash: {hash_}\n"
+                                                f"compiler: {compiler}")
+
+    kept = identify(stand_in("kept", first, first_hash), repo=repo)
+    assert kept.built_elsewhere and kept.built_at == first and kept.commit == first and not kept.dirty
+    assert kept.tree == first_tree and kept.key == f"tree-{first_tree[:16]}" and kept.short == first[:10]
+    assert kept.record()["built_at"] == first and not kept.record()["engine_dirty"]
+    # Not named by the commit: built from modified files, a hash the commit does not give,
+    # a commit this repository does not have.
+    for name, line, hash_ in (("modified", first + "+modified", first_hash), ("other", first, "0123456789abcdef"),
+                              ("unknown", "f" * 40, first_hash)):
+        engine = identify(stand_in(name, line, hash_), repo=repo)
+        assert engine.built_at is None and engine.dirty and engine.key == f"bin-{engine.binary_sha256[:16]}", name
+        assert engine.commit == later and "built_at" not in engine.record(), name
+
+
 def version_lines(binary: Path) -> list:
     """The lines of `binary --version` after the first."""
     done = subprocess.run([str(binary), "--version"], capture_output=True, text=True, check=True)
