@@ -181,11 +181,13 @@ def source_hash_at(rev: str, build_type: str, compiler: str, repo: Path = REPO_R
 
 
 def build_commit(facts: dict, built: str | None, repo: Path = REPO_ROOT) -> str | None:
-    """The commit a binary says it was built at ("commit: X", without "+modified"), when
-    that commit's engine sources give the binary's source hash: then the binary is that
-    commit's engine, wherever the checkout is now. None otherwise."""
-    commit = facts.get("commit", "")
-    if not built or not commit or commit == "unknown" or commit.endswith("+modified"):
+    """The commit a binary says it was built at ("commit: X", or "X+modified" when some
+    tracked file differed), when that commit's engine sources give the binary's source
+    hash: then the binary is that commit's engine, wherever the checkout is now (the hash
+    covers all that makes the binary, so a modified file elsewhere does not matter). None
+    otherwise."""
+    commit = facts.get("commit", "").removesuffix("+modified")
+    if not built or not commit or commit == "unknown":
         return None
     if git("cat-file", "-e", f"{commit}^{{commit}}", repo=repo) is None:     # not in this repository
         return None

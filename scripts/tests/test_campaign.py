@@ -647,10 +647,13 @@ def test_a_binary_built_at_an_earlier_commit_is_named_by_that_commits_sources(tm
     assert kept.built_elsewhere and kept.built_at == first and kept.commit == first and not kept.dirty
     assert kept.tree == first_tree and kept.key == f"tree-{first_tree[:16]}" and kept.short == first[:10]
     assert kept.record()["built_at"] == first and not kept.record()["engine_dirty"]
-    # Not named by the commit: built from modified files, a hash the commit does not give,
-    # a commit this repository does not have.
-    for name, line, hash_ in (("modified", first + "+modified", first_hash), ("other", first, "0123456789abcdef"),
-                              ("unknown", "f" * 40, first_hash)):
+    # Built while some tracked file was modified: the hash says whether the engine's were.
+    docs_only = identify(stand_in("docs", first + "+modified", first_hash), repo=repo)
+    assert docs_only.built_at == first and docs_only.key == kept.key and not docs_only.dirty
+    # Not named by the commit: engine files modified (a hash the commit does not give, with
+    # or without "+modified"), a commit this repository does not have.
+    for name, line, hash_ in (("modified", first + "+modified", "0123456789abcdef"),
+                              ("other", first, "0123456789abcdef"), ("unknown", "f" * 40, first_hash)):
         engine = identify(stand_in(name, line, hash_), repo=repo)
         assert engine.built_at is None and engine.dirty and engine.key == f"bin-{engine.binary_sha256[:16]}", name
         assert engine.commit == later and "built_at" not in engine.record(), name
