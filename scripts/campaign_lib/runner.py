@@ -20,7 +20,7 @@ from common.gitinfo import git_commit_folder
 
 from . import gather, store
 from .engine import Engine, file_sha256
-from .pace import Pace
+from .pace import Pace, seen_at
 from .plan import Plan, same_json
 from .state import RunState, choose, hours, one_thread_cpu
 from .workdir import collect_packings, share_packings
@@ -389,6 +389,6 @@ class Runner:
         for item in active.values():
             progress = item.state.folder.progress()
             now, left = time.monotonic(), self.left()
-            item.pace.add(now, progress.step)
+            item.pace.add(seen_at(now, progress.step_time, time.time()), progress.step)
             self.say(f"progress {item.state.run.label}: {progress.text()}, {hours(now - item.started)} "
                      f"so far; {hours(left)} of the budget left{item.pace.text(progress.total, left)}")

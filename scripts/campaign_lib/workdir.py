@@ -30,6 +30,7 @@ class Progress:
     total: int | None = None
     first: int = 0                 # the packing's step: a run from a packing starts there
     checkpoint: int | None = None
+    step_time: float | None = None  # when `step` reached the disk (the growing timeseries' mtime, epoch s)
 
     @property
     def fraction(self) -> float:
@@ -162,9 +163,14 @@ class RunFolder:
             packing = (meta.get("run") or {}).get("packing") or {}
             first = packing.get("step", 0) if isinstance(packing, dict) else 0
         # The engine's own growing file (read only; this module writes no such file).
-        step = last_step(self.run_dir / f"timeseries.csv.{GROWING}")
+        growing = self.run_dir / f"timeseries.csv.{GROWING}"
+        step = last_step(growing)
+        try:
+            step_time = growing.stat().st_mtime if step is not None else None
+        except OSError:
+            step_time = None
         stage = "interrupted" if status == "interrupted" else ("failed" if status == "failed" else "running")
-        return Progress(stage, step=step, total=total, first=first, checkpoint=checkpoint)
+        return Progress(stage, step=step, total=total, first=first, checkpoint=checkpoint, step_time=step_time)
 
 
 def run_point_items(run: Run):

@@ -703,6 +703,28 @@ def test_a_report_that_sees_no_new_step_gives_no_pace_and_no_warning():
     assert "200 steps a minute" in after and "WARNING" not in after
 
 
+def test_the_pace_counts_a_step_from_when_it_reached_the_disk_not_from_the_report(tmp_path):
+    # A resumed run of the bed of 20,000 wrote its first checkpoint 73 steps after its start;
+    # the report ten minutes later read that step and gave 7 steps a minute for about 150.
+    from campaign_lib.pace import Pace, seen_at
+    from campaign_lib.workdir import GROWING, RunFolder
+    folder = RunFolder(tmp_path, SimpleNamespace(point=SimpleNamespace(name="p"), seed=1))
+    folder.run_dir.mkdir(parents=True)
+    growing = folder.run_dir / f"timeseries.csv.{GROWING}"
+    growing.write_text("step,t\n9950,1.0\n10000,1.2\n10001,1.")       # the last row cut mid-write
+    os.utime(growing, (1_000_035.0, 1_000_035.0))
+    progress = folder.progress()
+    assert progress.step == 10000 and progress.step_time == 1_000_035.0
+
+    pace = Pace()
+    pace.add(0.0, 9927)                                                 # resumed at its checkpoint
+    pace.add(seen_at(600.0, progress.step_time, wall_now=1_000_600.0), progress.step)
+    assert pace.marks[-1] == (35.0, 10000)
+    assert "125 steps a minute" in pace.text(total=14_389, left_seconds=3000.0)
+    assert seen_at(600.0, None, 1e6) == 600.0                           # no file time: the report's
+    assert seen_at(600.0, 1_000_700.0, wall_now=1_000_600.0) == 600.0   # a file time ahead of the clock
+
+
 def test_the_engine_runs_in_the_campaigns_session_in_a_process_group_of_its_own():
     # An engine in a session of its own ran at about a ninth of its pace beside a nice-19
     # job (docs/performance.md, nineteenth installment).
