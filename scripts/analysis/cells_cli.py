@@ -70,8 +70,13 @@ def _runs(specs: Sequence[str], cycles: list[int]) -> list[tuple[str, Path, fiel
 def _figure(runs, counts: list[cells.CellCount], cycles: list[int]):
     n = len(runs)
     widths = [max(c.radius, 1.0) for c in counts]
-    fig = plt.figure(figsize=(min(4.0 + 0.35 * sum(widths), 22.0), 7.5))
-    grid = fig.add_gridspec(2, n, width_ratios=widths, height_ratios=[1.6, 1.0], hspace=0.35)
+    width = min(4.0 + 0.35 * sum(widths), 22.0)
+    # The maps keep r and z to scale, so the top row needs the tallest map's height at its
+    # share of the width (plus its title), no more.
+    tallest = max((width - 3.0) * w / sum(widths) * c.height / max(c.radius, 1.0) for w, c in zip(widths, counts))
+    top = min(max(tallest, 1.5), 6.0) + 0.6
+    fig = plt.figure(figsize=(width, top + 3.2))
+    grid = fig.add_gridspec(2, n, width_ratios=widths, height_ratios=[top, 2.4], hspace=0.3)
     limit = 0.0
     maps = []
     for (label, _, f), c in zip(runs, counts):
@@ -96,7 +101,8 @@ def _figure(runs, counts: list[cells.CellCount], cycles: list[int]):
         ax.set_xlabel("r")
         if i == 0:
             ax.set_ylabel("z")
-        ax.set_title(f"{label}: {c.cells} cell(s)\ncoherence {c.coherence:+.2f}", fontsize=9)
+        # Short lines: a paper bed's map is about an inch wide beside a bed of 20,000.
+        ax.set_title(f"{label}\n{c.cells} cell{'' if c.cells == 1 else 's'}, coh. {c.coherence:+.2f}", fontsize=8)
     fig.colorbar(image, ax=fig.axes, shrink=0.6, label="vorticity w = du_z/dr - du_r/dz")
     ax = fig.add_subplot(grid[1, :])
     for (label, _, _), c in zip(runs, counts):
