@@ -52,7 +52,8 @@ class Pace:
         """'' before two marks; else the last window's pace, what it implies for the run's
         end against the budget left, and the warning when the pace fell."""
         if self.unchanged:
-            return ("; no step written since the last report (the engine writes its timeseries at its "
+            since = "the last report" if len(self.marks) > 1 else "it started"
+            return (f"; no step written since {since} (the engine writes its timeseries at its "
                     "checkpoints): the pace when the next one is seen")
         rates = self.rates()
         if not rates:

@@ -692,6 +692,8 @@ def test_a_report_that_sees_no_new_step_gives_no_pace_and_no_warning():
     from campaign_lib.pace import Pace
     pace = Pace()
     pace.add(0.0, 8000)
+    pace.add(600.0, 8000)                                               # resumed at 8000, none since
+    assert "no step written since it started" in pace.text(total=14_570, left_seconds=7200.0)
     pace.add(600.0, 10_000)                                             # 200 steps a minute
     assert "200 steps a minute" in pace.text(total=14_570, left_seconds=7200.0)
     pace.add(1200.0, 10_000)                                            # no checkpoint since
