@@ -156,7 +156,7 @@ def source_hash(build_type: str, compiler: str, root: Path = REPO_ROOT) -> str:
 
 def source_hash_at(rev: str, build_type: str, compiler: str, repo: Path = REPO_ROOT) -> str | None:
     """The source hash a build of commit `rev`'s tracked files would print (None: no such
-    commit here, or git cannot say)."""
+    commit in this repository, or git cannot say)."""
     listed = git("ls-tree", "-r", "--full-tree", rev, "--", *HASHED_TOPS, *HASHED_FILES, repo=repo)
     if not listed:
         return None
@@ -188,8 +188,6 @@ def build_commit(facts: dict, built: str | None, repo: Path = REPO_ROOT) -> str 
     otherwise."""
     commit = facts.get("commit", "").removesuffix("+modified")
     if not built or not commit or commit == "unknown":
-        return None
-    if git("cat-file", "-e", f"{commit}^{{commit}}", repo=repo) is None:     # not in this repository
         return None
     at = source_hash_at(commit, facts.get("build type", ""), facts.get("compiler", ""), repo)
     return commit if at == built else None
