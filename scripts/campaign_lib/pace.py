@@ -1,19 +1,26 @@
-"""A running run's pace between progress reports: steps a minute, the time it still needs
-at that pace, and a warning when the pace falls far below the run's best in this
-invocation (docs/campaign.md, "Working beside a run": a run on two threads slows about
-four times beside a job of the same priority)."""
+"""A running run's pace between progress reports: steps a minute and the time it still
+needs at that pace; and the cores its engine got, with a warning when other work takes
+them (docs/campaign.md, "Working beside a run": a run on two threads slows about four
+times beside a job of the same priority)."""
 
 from __future__ import annotations
 
+import os
 from dataclasses import dataclass, field
+
+import psutil
 
 from .state import hours
 
-#: Below this share of the run's best pace in this invocation the report warns. A report
-#: spans 10 minutes by default, more than one thermal cycle of the paper bed (6 minutes),
-#: so the stages' own costs (a hold is about four times cheaper than a ramp) average out
-#: and differ between windows by well under a half; the crowded case is a quarter.
-SLOW_SHARE = 0.5
+#: Below this share of the cores an engine asks for, the report warns that other work
+#: takes them. Alone a run gets 0.96-0.99 of them (its threads spin at barriers rather
+#: than sleep: 1.93 of 2 cores over a minute of the bed of 20,000's cooling, 1.96 in a
+#: paper run's heating); beside a job of the same priority, three or four threads share
+#: two cores and it gets 0.5-0.67 (1.2 of 2 measured, docs/campaign.md). The pace itself
+#: cannot tell: a cycle of the bed of 20,000 lasts longer than a report, and its hold
+#: runs three times faster than its ramps (a warning "the pace fell to 0.33" on a quiet
+#: machine, 2026-12-07).
+LOW_CPU_SHARE = 0.8
 
 
 def seen_at(now: float, step_time: float | None, wall_now: float) -> float:
@@ -66,9 +73,65 @@ class Pace:
             verdict = "within the budget" if need <= left_seconds else \
                 "not within the budget: it stops at a checkpoint"
             out += f", about {hours(need)} to go at that pace ({verdict})"
-        best = max(rates)
-        if len(rates) >= 2 and rate < SLOW_SHARE * best:
-            out += (f"; WARNING: the pace fell to {rate / best:.2f} of its best in this invocation: other work "
-                    "on the cores? Run it at nice -n 19 from the campaign's session, or lower its own session's "
-                    "share (docs/campaign.md, Working beside a run)")
         return out
+
+
+def process_cpu_seconds(pid: int) -> float | None:
+    """User and system CPU seconds of a running process and its descendants (an engine
+    started through a launcher runs as its child); None once it is gone."""
+    try:
+        root = psutil.Process(pid)
+        processes = [root, *root.children(recursive=True)]
+    except psutil.Error:
+        return None
+    total = 0.0
+    for process in processes:
+        try:
+            times = process.cpu_times()
+        except psutil.Error:
+            continue   # a descendant that ended between the listing and the reading
+        total += times.user + times.system
+    return total
+
+
+def available_cores() -> int:
+    return len(os.sched_getaffinity(0))
+
+
+@dataclass
+class CpuShare:
+    """(seconds, CPU seconds) of one engine at each report: the cores it got in between.
+    The first mark is the first report's, not the start's: an engine's first minutes load
+    its hulls and packing on one thread."""
+    marks: list = field(default_factory=list)
+
+    def add(self, seconds: float, cpu: float | None) -> None:
+        if cpu is not None:
+            self.marks.append((seconds, cpu))
+
+    def cores(self) -> float | None:
+        """Cores the engine used over the last window; None before two marks."""
+        if len(self.marks) < 2:
+            return None
+        (t0, c0), (t1, c1) = self.marks[-2:]
+        return (c1 - c0) / (t1 - t0) if t1 > t0 else None
+
+    def text(self, asks: float) -> str:
+        """'' before two marks; else the cores it got against the `asks` it could have
+        (its threads, or its fair part of the cores when the campaign's own engines ask
+        for more than there are), with the warning below LOW_CPU_SHARE of them."""
+        got = self.cores()
+        if got is None:
+            return ""
+        out = f"; {got:.2f} of {asks:g} core(s) to it"
+        if got < LOW_CPU_SHARE * asks:
+            out += ("; WARNING: other work takes its cores (it slows far more than its share: its threads "
+                    "wait for each other). Run that work at nice -n 19 from the campaign's session, or lower its "
+                    "own session's share (docs/campaign.md, Working beside a run)")
+        return out
+
+
+def fair_cores(threads: int, engines_threads: int, cores: int) -> float:
+    """The cores an engine of `threads` threads can have when the campaign's engines ask
+    for `engines_threads` in all on `cores` cores."""
+    return threads * min(1.0, cores / engines_threads) if engines_threads > 0 else float(threads)

@@ -20,7 +20,7 @@ from common.gitinfo import git_commit_folder
 
 from . import gather, store
 from .engine import Engine, file_sha256
-from .pace import Pace, seen_at
+from .pace import CpuShare, Pace, available_cores, fair_cores, process_cpu_seconds, seen_at
 from .plan import Plan, same_json
 from .state import RunState, choose, hours, one_thread_cpu
 from .workdir import collect_packings, share_packings
@@ -62,6 +62,7 @@ class Active:
     stopping: bool = False
     handing_over: bool = False   # stopped to resume at once on every thread (--finish-one)
     pace: Pace = field(default_factory=Pace)  # its step at each progress report
+    cpu: CpuShare = field(default_factory=CpuShare)  # its CPU seconds at each progress report
 
 
 @dataclass
@@ -386,9 +387,14 @@ class Runner:
         self._reap(active, outcome, block=True)
 
     def _report(self, active: dict) -> None:
+        asked = sum(item.threads for item in active.values())
         for item in active.values():
             progress = item.state.folder.progress()
             now, left = time.monotonic(), self.left()
             item.pace.add(seen_at(now, progress.step_time, time.time()), progress.step)
+            cores = ""
+            if not self.launcher:   # a launcher's ranks may run on other hosts: their CPU is not seen here
+                item.cpu.add(now, process_cpu_seconds(item.proc.pid))
+                cores = item.cpu.text(fair_cores(item.threads, asked, available_cores()))
             self.say(f"progress {item.state.run.label}: {progress.text()}, {hours(now - item.started)} "
-                     f"so far; {hours(left)} of the budget left{item.pace.text(progress.total, left)}")
+                     f"so far; {hours(left)} of the budget left{item.pace.text(progress.total, left)}{cores}")
