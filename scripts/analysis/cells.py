@@ -10,7 +10,9 @@ each one's share of the field's absolute circulation (sum of |band|), say how ma
 counter-rotating regions it has and how strong each is; fields.circulation's coherence
 is the same information for the whole bed in one number. Beside it, the grain-weighted
 mean vertical displacement of each column, u_z(r): one cell rising at the axis and
-sinking at the wall changes its sign once.
+sinking at the wall changes its sign once; where it does (uz_edge), the width of the band
+along the wall (wall_band) and the middle's mean u_z per cycle (uz_middle) say how much of
+the bed the cell takes and how fast its middle moves.
 
 What counts as a cell is a threshold on the band's share (CELL_SHARE below); its reason
 is measured, not assumed: single-cycle fields of the paper bed, which has one cell
@@ -35,6 +37,11 @@ from . import fields
 #: the strongest, none had a second band at all. 0.3 is above what noise made in 99 of the
 #: 100.
 CELL_SHARE = 0.3
+
+#: The middle of the bed, r/R below this, whose mean u_z says how fast it moves as a
+#: whole: the inner half, where the paper bed's one cell rises (its u_z changes sign at
+#: r/R = 0.57-0.61 in the first cycle).
+MIDDLE = 0.5
 
 
 @dataclass
@@ -75,10 +82,37 @@ class CellCount:
         signs = [math.copysign(1.0, u) for u in self.uz_profile if math.isfinite(u) and u != 0.0]
         return sum(1 for a, b in zip(signs, signs[1:]) if a != b)
 
+    @property
+    def uz_middle(self) -> float:
+        """The mean of u_z(r) over the columns of r/R < MIDDLE, per cycle: how fast the
+        middle rises (or sinks) as a whole; NaN without such columns."""
+        r, uz = np.array(self.r), np.array(self.uz_profile)
+        pick = np.isfinite(uz) & (r < MIDDLE * self.radius)
+        return float(np.mean(uz[pick])) / len(self.cycles) if pick.any() else math.nan
+
+    @property
+    def uz_edge(self) -> float:
+        """r/R where u_z(r) changes sign for the last time going out (linear between the
+        columns' centres): where the wall's band of one sense begins; NaN without a change."""
+        r, uz = np.array(self.r), np.array(self.uz_profile)
+        ok = np.isfinite(uz) & (uz != 0.0)
+        r, uz = r[ok], uz[ok]
+        change = np.flatnonzero(np.sign(uz[:-1]) != np.sign(uz[1:]))
+        if not change.size:
+            return math.nan
+        i = change[-1]
+        return float(r[i] + (r[i + 1] - r[i]) * uz[i] / (uz[i] - uz[i + 1])) / self.radius
+
+    @property
+    def wall_band(self) -> float:
+        """The width of that band along the wall, R (1 - uz_edge), in the fields' length."""
+        return self.radius * (1.0 - self.uz_edge)
+
     def to_dict(self) -> dict:
         return {"cycles": self.cycles, "radius": self.radius, "height": self.height,
                 "interior_cells": self.interior_cells, "coherence": self.coherence,
                 "cells": self.cells, "cell_share": CELL_SHARE, "uz_sign_changes": self.uz_sign_changes,
+                "uz_middle": self.uz_middle, "uz_edge": self.uz_edge, "wall_band": self.wall_band,
                 "bands": [b.to_dict() for b in self.bands], "r": self.r,
                 "column_circulation": self.column_circulation, "uz_profile": self.uz_profile}
 

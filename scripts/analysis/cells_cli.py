@@ -121,14 +121,21 @@ def _markdown(runs, counts: list[cells.CellCount], cycles: list[int]) -> str:
              f"A band is a run of radial columns whose circulation C(r) has one sign; it is a cell "
              f"from {cells.CELL_SHARE:g} of the field's absolute circulation (scripts/analysis/cells.py "
              "says why). Coherence: the whole bed's circulation over its absolute circulation (+-1: "
-             "one sense throughout).", "",
+             "one sense throughout). u_z(r): the grain-weighted mean vertical displacement of each "
+             f"column; its last sign change going out (r/R) begins the band along the wall (its width); "
+             f"the middle's u_z: its mean over r/R < {cells.MIDDLE:g}, per cycle.", "",
              "| run | bed radius x height | interior cells | coherence | cells | bands (r range: share, sense) "
-             "| u_z(r) sign changes |", "|---|---|---|---|---|---|---|"]
+             "| u_z(r) sign changes | last at r/R | wall band | middle's u_z per cycle |",
+             "|---|---|---|---|---|---|---|---|---|---|"]
+
+    def shown(value: float, form: str) -> str:
+        return format(value, form) if math.isfinite(value) else "n/a"
+
     for (label, path, _), c in zip(runs, counts):
         bands = "; ".join(f"{b.r_from:g}-{b.r_to:g}: {b.share:.2f}, {b.sense}" for b in c.bands) or "none"
-        coherence = f"{c.coherence:+.2f}" if math.isfinite(c.coherence) else "n/a"
-        lines.append(f"| {label} | {c.radius:g} x {c.height:g} | {c.interior_cells} | {coherence} | {c.cells} "
-                     f"| {bands} | {c.uz_sign_changes} |")
+        lines.append(f"| {label} | {c.radius:g} x {c.height:g} | {c.interior_cells} | {shown(c.coherence, '+.2f')} "
+                     f"| {c.cells} | {bands} | {c.uz_sign_changes} | {shown(c.uz_edge, '.2f')} "
+                     f"| {shown(c.wall_band, '.1f')} | {shown(c.uz_middle, '+.3f')} |")
     lines += ["", "![cells](figures/cells.png)", ""]
     return "\n".join(lines)
 
