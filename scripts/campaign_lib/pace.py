@@ -56,8 +56,8 @@ class Pace:
         return [(b - a) / (t1 - t0) for (t0, a), (t1, b) in zip(self.marks, self.marks[1:]) if t1 > t0]
 
     def text(self, total: int | None, left_seconds: float) -> str:
-        """'' before two marks; else the last window's pace, what it implies for the run's
-        end against the budget left, and the warning when the pace fell."""
+        """'' before two marks; else the last window's pace and what it implies for the
+        run's end against the budget left."""
         if self.unchanged:
             since = "the last report" if len(self.marks) > 1 else "it started"
             return (f"; no step written since {since} (the engine writes its timeseries at its "
