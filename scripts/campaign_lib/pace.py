@@ -43,6 +43,13 @@ class Pace:
     # a checkpoint per report shows the same step twice: no window ends there (a pace of 0
     # and a false warning), the next step seen ends a longer one.
     unchanged: bool = False
+    # The first mark is a resumed run's checkpoint at its start, not a report's step.
+    resumed: bool = False
+
+    def resume(self, seconds: float, checkpoint: int | None) -> None:
+        """The first mark of a run resumed at `checkpoint`: its first window counts from there."""
+        self.add(seconds, checkpoint)
+        self.resumed = bool(self.marks)
 
     def add(self, seconds: float, step: int | None) -> None:
         if step is None:
@@ -59,7 +66,7 @@ class Pace:
         """'' before two marks; else the last window's pace and what it implies for the
         run's end against the budget left."""
         if self.unchanged:
-            since = "the last report" if len(self.marks) > 1 else "it started"
+            since = "it started" if self.resumed and len(self.marks) == 1 else "the last report"
             return (f"; no step written since {since} (the engine writes its timeseries at its "
                     "checkpoints): the pace when the next one is seen")
         rates = self.rates()

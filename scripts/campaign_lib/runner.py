@@ -263,7 +263,7 @@ class Runner:
         item = Active(state=state, proc=proc, lock_fd=fd, command=command, started=time.monotonic(),
                       started_iso=now_iso(), threads=self.threads)
         if how != "new":   # a resumed run goes on from its checkpoint: the first window's pace counts from there
-            item.pace.add(item.started, progress.checkpoint)
+            item.pace.resume(item.started, progress.checkpoint)
         return item
 
     def _stored_meanwhile(self, state: RunState) -> bool:

@@ -732,8 +732,12 @@ def test_a_report_that_sees_no_new_step_gives_no_pace_and_no_warning():
     # steps, reports every 10 minutes) shows the same step twice. That window is no pace of
     # 0 and no warning; the next step seen ends a window over both reports.
     from campaign_lib.pace import Pace
+    new = Pace()
+    new.add(600.0, 8000)                                                # a new run's first report
+    new.add(1200.0, 8000)                                               # none since: not since its start
+    assert "no step written since the last report" in new.text(total=29_389, left_seconds=7200.0)
     pace = Pace()
-    pace.add(0.0, 8000)
+    pace.resume(0.0, 8000)
     pace.add(600.0, 8000)                                               # resumed at 8000, none since
     assert "no step written since it started" in pace.text(total=14_570, left_seconds=7200.0)
     pace.add(600.0, 10_000)                                             # 200 steps a minute
@@ -761,7 +765,7 @@ def test_the_pace_counts_a_step_from_when_it_reached_the_disk_not_from_the_repor
     assert progress.step == 10000 and progress.step_time == 1_000_035.0
 
     pace = Pace()
-    pace.add(0.0, 9927)                                                 # resumed at its checkpoint
+    pace.resume(0.0, 9927)                                              # resumed at its checkpoint
     pace.add(seen_at(600.0, progress.step_time, wall_now=1_000_600.0), progress.step)
     assert pace.marks[-1] == (35.0, 10000)
     assert "125 steps a minute" in pace.text(total=14_389, left_seconds=3000.0)
