@@ -40,8 +40,8 @@ class Pace:
     marks: list = field(default_factory=list)
     # The last report saw no step beyond the last mark's. The engine's growing timeseries
     # reaches the disk at its checkpoints (io/atomic_file flush_size), so a run slower than
-    # a checkpoint per report shows the same step twice: no window ends there (a pace of 0
-    # and a false warning), the next step seen ends a longer one.
+    # a checkpoint per report shows the same step twice: no window ends there (it would
+    # give a pace of 0), the next step seen ends a longer one.
     unchanged: bool = False
     # The first mark is a resumed run's checkpoint at its start, not a report's step.
     resumed: bool = False
@@ -84,8 +84,8 @@ class Pace:
 
 
 def process_cpu_seconds(pid: int) -> float | None:
-    """User and system CPU seconds of a running process and its descendants (an engine
-    started through a launcher runs as its child); None once it is gone."""
+    """User and system CPU seconds of a running process and its live descendants (a
+    launcher's ranks on this host run as its children); None once it is gone."""
     try:
         root = psutil.Process(pid)
         processes = [root, *root.children(recursive=True)]
