@@ -77,10 +77,17 @@ class CellCount:
         """Bands holding at least CELL_SHARE of the absolute circulation."""
         return sum(1 for b in self.bands if b.share >= CELL_SHARE)
 
+    def _signed_profile(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The columns with a sign (finite, non-zero u_z): their r, u_z, and the indices i
+        where u_z changes sign between the i-th and the next."""
+        r, uz = np.array(self.r), np.array(self.uz_profile)
+        ok = np.isfinite(uz) & (uz != 0.0)
+        r, uz = r[ok], uz[ok]
+        return r, uz, np.flatnonzero(np.sign(uz[:-1]) != np.sign(uz[1:]))
+
     @property
     def uz_sign_changes(self) -> int:
-        signs = [math.copysign(1.0, u) for u in self.uz_profile if math.isfinite(u) and u != 0.0]
-        return sum(1 for a, b in zip(signs, signs[1:]) if a != b)
+        return int(self._signed_profile()[2].size)
 
     @property
     def uz_middle(self) -> float:
@@ -94,10 +101,7 @@ class CellCount:
     def uz_edge(self) -> float:
         """r/R where u_z(r) changes sign for the last time going out (linear between the
         columns' centres): where the wall's band of one sense begins; NaN without a change."""
-        r, uz = np.array(self.r), np.array(self.uz_profile)
-        ok = np.isfinite(uz) & (uz != 0.0)
-        r, uz = r[ok], uz[ok]
-        change = np.flatnonzero(np.sign(uz[:-1]) != np.sign(uz[1:]))
+        r, uz, change = self._signed_profile()
         if not change.size:
             return math.nan
         i = change[-1]

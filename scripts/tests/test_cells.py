@@ -73,14 +73,19 @@ def test_the_profile_says_where_the_wall_band_begins_and_how_fast_the_middle_mov
     # and the middle's mean is that of the formula over the inner columns (equal weights).
     folder = write(tmp_path / "one", noise=0.0)
     one = count(folder)
+    # The columns either side of R/2 hold u_z of equal size and opposite sign: the
+    # interpolation lands on R/2 up to rounding (1e-9).
     assert math.isclose(one.uz_edge, 0.5, abs_tol=1e-9) and math.isclose(one.wall_band, R / 2, abs_tol=1e-9)
     r, z = (np.arange(NR) + 0.5) * CELL, (np.arange(NZ) + 0.5) * CELL
     uz = -0.2 * (math.pi / R) * np.cos(math.pi * r / R)[:, None] * np.sin(math.pi * z / H)[None, :]
     expected = uz.mean(axis=1)[r < cells.MIDDLE * R].mean()
     assert math.isclose(one.uz_middle, expected, rel_tol=1e-4)   # the fields are written to 6 digits
-    # Summed over two cycles, the middle's u_z is still one cycle's: it is per cycle.
+    # Summed over two cycles, the middle's u_z is still one cycle's: it is per cycle (the
+    # two cycles' fields are the same numbers, so only rounding differs: 1e-9).
     assert math.isclose(count(folder, cycles=(0, 1)).uz_middle, one.uz_middle, rel_tol=1e-9)
-    # Two cells: the last change going out is at 3R/4 (cos(2 pi r/R) = 0).
+    # Two cells: the last change going out is at 3R/4 (cos(2 pi r/R) = 0); the columns
+    # either side are symmetric about it as above, up to the 6 written digits (1e-3 of R
+    # is far above what they can move it).
     two = count(write(tmp_path / "two", radial_cells=2, noise=0.0))
     assert math.isclose(two.uz_edge, 0.75, abs_tol=1e-3)
     still = cells.CellCount(cycles=[0], radius=4.0, height=1.0, interior_cells=0, coherence=math.nan,
@@ -128,6 +133,8 @@ def test_the_command_writes_table_json_and_figure(tmp_path):
     assert data["runs"]["narrow"]["cells"] == 1 and data["runs"]["wide"]["cells"] == 2
     table = (out / "cells.md").read_text()
     assert "| narrow |" in table and "| wide |" in table
+    # 0.05: a column is R/20 wide, and the fields' noise (0.002 against u_z of about 0.03
+    # near the edge's columns) moves the crossing by well under one.
     assert abs(data["runs"]["narrow"]["uz_edge"] - 0.5) < 0.05 and "| wall band |" in table
     assert (out / "figures" / "cells.png").stat().st_size > 0
     assert "wide 2 cell(s)" in (out / "figures" / "cells.txt").read_text()
