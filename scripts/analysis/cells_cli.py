@@ -42,6 +42,10 @@ def _parse(argv: Sequence[str] | None) -> argparse.Namespace:
     parser.add_argument("--cycles", nargs="+", type=int, default=[0], metavar="K",
                         help="the cycles whose heating and cooling are summed (default: 0, the "
                              "first and strongest)")
+    parser.add_argument("--each-cycle", action="store_true",
+                        help="also count each of the --cycles alone: a second table in cells.md "
+                             "and `each_cycle` in cells.json (whether a cell of the summed cycles "
+                             "is in every one of them)")
     parser.add_argument("--out", required=True, metavar="OUT", help="output folder")
     return parser.parse_args(argv)
 
@@ -116,7 +120,25 @@ def _figure(runs, counts: list[cells.CellCount], cycles: list[int]):
     return fig
 
 
-def _markdown(runs, counts: list[cells.CellCount], cycles: list[int]) -> str:
+def _shown(value: float, form: str) -> str:
+    return format(value, form) if math.isfinite(value) else "n/a"
+
+
+def _row(label: str, c: cells.CellCount) -> str:
+    """One run's columns of the tables after its label."""
+    bands = "; ".join(f"{b.r_from:g}-{b.r_to:g}: {b.share:.2f}, {b.sense}" for b in c.bands) or "none"
+    return (f"| {label} | {c.radius:g} x {c.height:g} | {c.interior_cells} | {_shown(c.coherence, '+.2f')} "
+            f"| {c.cells} | {bands} | {c.uz_sign_changes} | {_shown(c.uz_edge, '.2f')} "
+            f"| {_shown(c.wall_band, '.1f')} | {_shown(c.uz_middle, '+.3f')} |")
+
+
+_HEADER = ("| {run} | bed radius x height | interior cells | coherence | cells | bands (r range: share, sense) "
+           "| u_z(r) sign changes | last at r/R | wall band | middle's u_z per cycle |")
+_RULE = "|---|---|---|---|---|---|---|---|---|---|"
+
+
+def _markdown(runs, counts: list[cells.CellCount], cycles: list[int],
+              each: dict[str, list[cells.CellCount]] | None = None) -> str:
     lines = [f"# Convection cells over cycle(s) {', '.join(map(str, cycles))}", "",
              f"A band is a run of radial columns whose circulation C(r) has one sign; it is a cell "
              f"from {cells.CELL_SHARE:g} of the field's absolute circulation (scripts/analysis/cells.py "
@@ -124,18 +146,13 @@ def _markdown(runs, counts: list[cells.CellCount], cycles: list[int]) -> str:
              "one sense throughout). u_z(r): the grain-weighted mean vertical displacement of each "
              f"column; its last sign change going out (r/R) begins the band along the wall (its width); "
              f"the middle's u_z: its mean over r/R < {cells.MIDDLE:g}, per cycle.", "",
-             "| run | bed radius x height | interior cells | coherence | cells | bands (r range: share, sense) "
-             "| u_z(r) sign changes | last at r/R | wall band | middle's u_z per cycle |",
-             "|---|---|---|---|---|---|---|---|---|---|"]
-
-    def shown(value: float, form: str) -> str:
-        return format(value, form) if math.isfinite(value) else "n/a"
-
-    for (label, path, _), c in zip(runs, counts):
-        bands = "; ".join(f"{b.r_from:g}-{b.r_to:g}: {b.share:.2f}, {b.sense}" for b in c.bands) or "none"
-        lines.append(f"| {label} | {c.radius:g} x {c.height:g} | {c.interior_cells} | {shown(c.coherence, '+.2f')} "
-                     f"| {c.cells} | {bands} | {c.uz_sign_changes} | {shown(c.uz_edge, '.2f')} "
-                     f"| {shown(c.wall_band, '.1f')} | {shown(c.uz_middle, '+.3f')} |")
+             _HEADER.format(run="run"), _RULE]
+    lines += [_row(label, c) for (label, _, _), c in zip(runs, counts)]
+    if each:
+        lines += ["", "## Each cycle alone", "",
+                  "The same figures of each cycle's heating and cooling by themselves (the middle's "
+                  "u_z is then that cycle's).", "", _HEADER.format(run="run, cycle"), _RULE]
+        lines += [_row(f"{label}, {c.cycles[0]}", c) for label, per_cycle in each.items() for c in per_cycle]
     lines += ["", "![cells](figures/cells.png)", ""]
     return "\n".join(lines)
 
@@ -151,6 +168,8 @@ def main(argv: Sequence[str] | None = None) -> int:
             return 2
         return 2 if e.code else 0
     counts = [cells.count_cells(f, cycles) for _, _, f in runs]
+    each = ({label: [cells.count_cells(f, [k]) for k in cycles] for label, _, f in runs}
+            if args.each_cycle else None)
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     caption = (f"Convection cells over cycle(s) {', '.join(map(str, cycles))}: "
@@ -159,10 +178,13 @@ def main(argv: Sequence[str] | None = None) -> int:
     fig = _figure(runs, counts, cycles)
     save_figure(fig, out, "cells", caption)
     plt.close(fig)
-    write_atomic(out / "cells.json", dumps({"cycles": cycles, "cell_share": cells.CELL_SHARE,
-                                            "runs": {label: dict(c.to_dict(), folder=str(path))
-                                                     for (label, path, _), c in zip(runs, counts)}}) + "\n")
-    write_atomic(out / "cells.md", _markdown(runs, counts, cycles))
+    record = {"cycles": cycles, "cell_share": cells.CELL_SHARE,
+              "runs": {label: dict(c.to_dict(), folder=str(path)) for (label, path, _), c in zip(runs, counts)}}
+    if each:
+        record["each_cycle"] = {label: {str(c.cycles[0]): c.to_dict() for c in per_cycle}
+                                for label, per_cycle in each.items()}
+    write_atomic(out / "cells.json", dumps(record) + "\n")
+    write_atomic(out / "cells.md", _markdown(runs, counts, cycles, each))
     for (label, _, _), c in zip(runs, counts):
         print(f"convection-cells: {label}: {c.cells} cell(s), coherence {c.coherence:+.2f}, "
               f"{len(c.bands)} band(s), u_z(r) changes sign {c.uz_sign_changes} time(s)")

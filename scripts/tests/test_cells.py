@@ -138,6 +138,28 @@ def test_the_command_writes_table_json_and_figure(tmp_path):
     assert abs(data["runs"]["narrow"]["uz_edge"] - 0.5) < 0.05 and "| wall band |" in table
     assert (out / "figures" / "cells.png").stat().st_size > 0
     assert "wide 2 cell(s)" in (out / "figures" / "cells.txt").read_text()
+    assert "Each cycle alone" not in table and "each_cycle" not in data   # only when asked
+
+
+def test_each_cycle_alone_is_counted_on_request(tmp_path):
+    # A bed whose cycle 0 turns as one cell and cycle 1 as two: the per-cycle table must
+    # tell them apart, whatever the sum of the two shows.
+    one, two = write(tmp_path / "one", cycles=1), write(tmp_path / "two", radial_cells=2, cycles=1)
+    mixed = tmp_path / "mixed"
+    mixed.mkdir()
+    frames = [pd.read_csv(one / fields.STAGE_FILE), pd.read_csv(two / fields.STAGE_FILE).assign(cycle=1)]
+    pd.concat(frames).to_csv(mixed / fields.STAGE_FILE, index=False)
+    out = tmp_path / "out"
+    done = run_cli(f"bed={mixed}", "--cycles", 0, 1, "--each-cycle", "--out", out)
+    assert done.returncode == 0, done.stderr
+    data = json.loads((out / "cells.json").read_text())
+    per_cycle = data["each_cycle"]["bed"]
+    assert per_cycle["0"]["cells"] == 1 and per_cycle["1"]["cells"] == 2
+    assert per_cycle["0"]["cycles"] == [0] and per_cycle["1"]["cycles"] == [1]
+    table = (out / "cells.md").read_text()
+    alone = table.split("## Each cycle alone")[1]
+    assert "| bed, 0 |" in alone and "| bed, 1 |" in alone
+    assert "| bed |" in table.split("## Each cycle alone")[0]   # the summed row stays first
 
 
 def test_bad_inputs_are_refused_before_anything_is_written(tmp_path):
