@@ -41,6 +41,57 @@ json cycled_bed() {
 }
 
 
+// The bytes of each thread count, in the order given (the packing poured by the first).
+struct ThreadRuns {
+  std::vector<std::string> series, bodies;
+  int most_colours = 0;
+};
+
+ThreadRuns run_on_threads(const json& scene_json, const std::vector<int>& counts, const std::string& name) {
+  const int saved_threads = omp_get_max_threads();
+  const SceneDef scene = build_scene(scene_json, name + ".json");
+  const fs::path packing = test::fresh_dir("ratchet_" + name + "_packing") / "bed.state";
+  {
+    World world(scene);
+    write_packing(packing.string(), world, settle_world(world), json::object());
+  }
+  test_hooks().parallel_min_rows = 0;
+  ThreadRuns out;
+  for (int threads : counts) {
+    omp_set_num_threads(threads);
+    const fs::path dir = test::fresh_dir("ratchet_" + name + "_" + std::to_string(threads));
+    World world(scene);
+    RunOptions opt;
+    opt.packing_settle = load_packing(packing.string(), world).value("settle", json());
+    opt.packing = packing_reference(packing.string(), world);
+    opt.out_dir = dir.string();
+    run_world(world, opt, [&](const World& w) {
+      out.most_colours = std::max(out.most_colours, w.contact_colouring().colours());
+    });
+    out.series.push_back(without_timing_columns(test::read_text(dir / "timeseries.csv")));
+    out.bodies.push_back(test::read_text(dir / "bodies.csv"));
+    fs::remove_all(dir);
+  }
+  test_hooks().parallel_min_rows = -1;
+  omp_set_num_threads(saved_threads);
+  fs::remove_all(packing.parent_path());
+  return out;
+}
+
+// The inexact slide (solver.slide_newton_steps) holds budgeted and exact lanes in one
+// batch (solver/nsgs.cpp, SlideBatch): the same bytes on 1 and 3 threads too, and other
+// bytes than the exact slide's (the budget binds).
+TEST(ThreadCount, TheInexactSlideWritesTheSameBytesOnOneAndThreeThreads) {
+  json scene = cycled_bed();
+  scene["solver"]["slide_newton_steps"] = 1;
+  const ThreadRuns inexact = run_on_threads(scene, {1, 3}, "threads_slide");
+  const ThreadRuns exact = run_on_threads(cycled_bed(), {1}, "threads_exact");
+  EXPECT_GT(inexact.series[0].size(), 50000u);
+  EXPECT_TRUE(inexact.series[1] == inexact.series[0]) << "timeseries.csv differs between 1 and 3 threads";
+  EXPECT_TRUE(inexact.bodies[1] == inexact.bodies[0]) << "bodies.csv differs between 1 and 3 threads";
+  EXPECT_FALSE(inexact.bodies[0] == exact.bodies[0]) << "the step budget never bound";
+}
+
 TEST(ThreadCount, OneTwoThreeAndEightThreadsWriteTheSameBytes) {
   const int saved_threads = omp_get_max_threads();
   const SceneDef scene = build_scene(cycled_bed(), "threads.json");

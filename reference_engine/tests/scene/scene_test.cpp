@@ -404,6 +404,21 @@ TEST(Scene, SolverStallFallbackIsPlainOrApgdAndApgdIsForTheRigidLaw) {
                                  HasSubstr("while solver.compliance > 0")));
 }
 
+TEST(Scene, SolverSlideNewtonStepsIsABudgetFromZeroToThirty) {
+  json j = minimal_scene();
+  const SceneDef exact = build_scene(j, "s.json");
+  EXPECT_EQ(exact.solver.slide_newton_steps, 0);  // the default: the exact slide, the bits of every scene before it
+  EXPECT_EQ(exact.effective.at("solver").at("slide_newton_steps"), 0);
+  j["solver"] = {{"slide_newton_steps", 1}};
+  EXPECT_EQ(build_scene(j, "s.json").solver.slide_newton_steps, 1);
+  j["solver"]["slide_newton_steps"] = 31;
+  EXPECT_THAT(error_of(j), HasSubstr("scene.json: field 'solver.slide_newton_steps'"));
+  j["solver"]["slide_newton_steps"] = -1;
+  EXPECT_THAT(error_of(j), HasSubstr("scene.json: field 'solver.slide_newton_steps'"));
+  j["solver"]["slide_newton_steps"] = 1.5;
+  EXPECT_THAT(error_of(j), HasSubstr("scene.json: field 'solver.slide_newton_steps'"));
+}
+
 TEST(Scene, DegeneratePolyhedronIsRefusedWithItsField) {
   json j = minimal_scene();
   j["particles"]["bodies"] = json::array(

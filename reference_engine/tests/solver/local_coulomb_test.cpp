@@ -156,6 +156,85 @@ TEST(LocalCoulomb, SlidesSolvedTogetherHaveTheBitsOfEachAlone) {
   EXPECT_GT(some_failed, 50);    // and some batches have a lane fail (the cold path's case)
 }
 
+// The inexact slide (solver.slide_newton_steps): lanes with a step budget, mixed with
+// exact ones, still have the bits each has alone with its own budget.
+TEST(LocalCoulomb, SlidesWithAStepBudgetSolvedTogetherHaveTheBitsOfEachAlone) {
+  Rng rng(31);
+  constexpr int L = detail::kSlideLanes;
+  int cut_found = 0;
+  for (int k = 0; k < 2000; ++k) {
+    const int n = 2 + k % (L - 1);
+    Mat3 W[L];
+    Vec3 w[L], lambda_alone[L], lambda_batch[L];
+    double mu[L];
+    Eigen::Vector2d hint[L];
+    bool alone[L], found[L];
+    int steps[L];
+    const Mat3* Wp[L];
+    const Vec3* wp[L];
+    const Eigen::Vector2d* hp[L];
+    Vec3* out[L];
+    for (int j = 0; j < n; ++j) {
+      W[j] = random_delassus(rng);
+      w[j] = Vec3(uniform(rng, -2, -0.1), uniform(rng, -3, 3), uniform(rng, -3, 3));
+      mu[j] = uniform(rng, 0.05, 1.0);
+      const double a = uniform(rng, 0.0, 2.0 * M_PI);
+      hint[j] = Eigen::Vector2d(std::cos(a), std::sin(a));
+      steps[j] = (k + j) % 4;  // 0 (exact), 1, 2 or 3 steps
+      alone[j] = detail::slide_from_hint(W[j], w[j], mu[j], hint[j], lambda_alone[j], steps[j]);
+      Wp[j] = &W[j];
+      wp[j] = &w[j];
+      hp[j] = &hint[j];
+      out[j] = &lambda_batch[j];
+    }
+    detail::slide_from_hints(n, Wp, wp, mu, hp, out, found, steps);
+    for (int j = 0; j < n; ++j) {
+      ASSERT_EQ(found[j], alone[j]) << k << " lane " << j;
+      if (found[j]) ASSERT_EQ(std::memcmp(lambda_batch[j].data(), lambda_alone[j].data(), sizeof(Vec3)), 0) << k;
+      cut_found += found[j] && steps[j] > 0;
+    }
+  }
+  EXPECT_GT(cut_found, 1000);
+}
+
+// An inexact slide returns an impulse on the cone, against its own slide velocity, and
+// repeated from its own answer (as the sweeps repeat it) it reaches the exact slide: its
+// fixed point is the exact law's.
+TEST(LocalCoulomb, AnInexactSlideIsOnTheConeAndItsRepetitionReachesTheExactSlide) {
+  Rng rng(37);
+  int checked = 0, far_starts = 0;
+  for (int k = 0; k < 4000; ++k) {
+    const Mat3 W = random_delassus(rng);
+    const Vec3 w(uniform(rng, -2, -0.1), uniform(rng, -3, 3), uniform(rng, -3, 3));
+    const double mu = uniform(rng, 0.05, 1.0);
+    const LocalSolution exact = solve_local_coulomb(W, w, mu);
+    Eigen::Vector2d d;
+    if (exact.status != LocalStatus::Slide || !slide_direction(exact.lambda, mu, d)) continue;
+    // A start 0.05-0.3 rad off the answer, as a sweep's changed neighbours leave it.
+    const double off = (k % 2 ? 1.0 : -1.0) * uniform(rng, 0.05, 0.3);
+    Eigen::Vector2d hint(d.x() * std::cos(off) - d.y() * std::sin(off), d.x() * std::sin(off) + d.y() * std::cos(off));
+    Vec3 lambda;
+    bool ok = detail::slide_from_hint(W, w, mu, hint, lambda, 1);
+    if (!ok) continue;  // the sweep then solves it exactly (the cold way)
+    ++far_starts;
+    const double lt = std::sqrt(lambda[1] * lambda[1] + lambda[2] * lambda[2]);
+    ASSERT_GE(lambda[0], 0.0) << k;
+    ASSERT_NEAR(lt, mu * lambda[0], 1e-12 * (1.0 + lambda[0])) << k;  // on the cone to round-off
+    const Vec3 u = w + W * lambda;
+    ASSERT_LT(u[1] * lambda[1] + u[2] * lambda[2], 0.0) << k;  // friction against the slide velocity
+    for (int it = 0; it < 12 && ok; ++it) {
+      ok = slide_direction(lambda, mu, hint) && detail::slide_from_hint(W, w, mu, hint, lambda, 1);
+    }
+    ASSERT_TRUE(ok) << k;
+    // Newton converges quadratically: twelve repetitions reach the exact solve to round-off
+    // (1e-10 of the impulse: W's conditioning, 0.2 at least on its diagonal, with margin).
+    ASSERT_LT((lambda - exact.lambda).norm(), 1e-10 * (1.0 + exact.lambda.norm())) << k;
+    ++checked;
+  }
+  EXPECT_GT(checked, 1000);
+  EXPECT_EQ(checked, far_starts);
+}
+
 // The warm start's clip is project_onto_cone's clip but for its rounding: the two agree
 // to a few ulps of the impulse, and where the cap is zero the clip's tangent is +0.
 TEST(LocalCoulomb, KeptImpulseIsClippedAsProjectOntoCone) {

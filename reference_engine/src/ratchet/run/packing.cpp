@@ -67,7 +67,7 @@ void differences(const json& a, const json& b, const std::string& path, std::vec
 // law only says how a loaded compliant contact moves.
 constexpr const char* kSolveKnobs[] = {"method",         "tolerance",  "criterion",      "max_iterations",
                                       "acceleration",   "compliance", "tangential_law", "anderson_depth",
-                                      "p_gap",          "manifold_reuse", "stall_fallback"};
+                                      "p_gap",          "manifold_reuse", "stall_fallback", "slide_newton_steps"};
 
 json without_solve_knobs(json scene) {
   if (scene.is_object() && scene.contains("solver") && scene["solver"].is_object())

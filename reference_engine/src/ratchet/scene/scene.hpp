@@ -68,6 +68,7 @@ struct SolverSettings {
   // (the law on u + c lambda) or hold it as a spring (on u + c (lambda - lambda_kept)).
   TangentialLaw tangential_law = TangentialLaw::Creep;
   StallFallback stall_fallback = StallFallback::Plain;  // the rigid law only
+  int slide_newton_steps = 0;  // > 0: a hinted slide's Newton budget (the inexact slide); 0: exact
   bool warm_start = true;
   double contact_margin = 0.05;  // contacts closer than this (length units) are detected
   double manifold_reuse = 0.0;   // a polyhedron pair's manifold is kept while it moves less (length; 0: rebuilt every step; contact/manifold_reuse.hpp)

@@ -23,7 +23,7 @@ void read_solver(const Reader& r, const json& j, SolverSettings& s) {
   const std::string p = "solver";
   r.object(j, p, {"tolerance", "criterion", "max_iterations", "theta", "p_gap", "warm_start", "contact_margin", "threads",
                   "acceleration", "anderson_depth", "compliance", "tangential_law", "manifold_reuse", "method",
-                  "stall_fallback"});
+                  "stall_fallback", "slide_newton_steps"});
   if (j.contains("method")) {
     const json& m = j.at("method");
     if (m == "nsgs") s.method = SolverMethod::Nsgs;
@@ -48,6 +48,8 @@ void read_solver(const Reader& r, const json& j, SolverSettings& s) {
   if (s.stall_fallback == StallFallback::Apgd && s.compliance > 0.0)
     r.fail(p + ".stall_fallback", "\"plain\" while solver.compliance > 0 (\"apgd\" is for the rigid law)",
            &j.at("stall_fallback"));
+  // 0 is the exact local slide; above the Newton cap (30 steps) a budget never binds.
+  s.slide_newton_steps = static_cast<int>(r.integer(j, p, "slide_newton_steps", s.slide_newton_steps, 0, 30));
   s.warm_start = r.boolean(j, p, "warm_start", s.warm_start);
   // The spring's load is the contact's kept impulse, which only the warm start finds.
   if (s.tangential_law == TangentialLaw::Spring && !s.warm_start)

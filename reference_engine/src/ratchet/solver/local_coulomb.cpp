@@ -110,20 +110,27 @@ NewtonLane newton_lane(const Mat3& W, const Vec3& w, double mu, const Eigen::Vec
 }
 
 // True, with the direction in da, when the lane ended at an admissible sliding direction
-// (lambda_n >= 0, u_t against d); t is then the slide trial of da.
-bool newton_admissible(const NewtonLane& L, Eigen::Vector2d& da, SlideTrial& t) {
+// (lambda_n >= 0, u_t against d); t is then the slide trial of da. cut: the lane was
+// stopped by a step budget (an inexact slide, slide_from_hint), not by its convergence:
+// u_t need not be parallel to d yet, only against it.
+bool newton_admissible(const NewtonLane& L, Eigen::Vector2d& da, SlideTrial& t, bool cut = false) {
   da = L.da;
   t = slide_trial(*L.W, *L.w, L.mu, da);
   return t.valid && t.lambda_n >= 0.0 && t.u_t.dot(da) < 0.0 && t.u_t.norm() > 0.0 &&
-         std::abs(slide_residual(t, da)) < kAdmissibleResidual;
+         (cut || std::abs(slide_residual(t, da)) < kAdmissibleResidual);
 }
 
+// The steps a lane may take: all it needs (kNewtonCap) or the inexact slide's budget.
+int step_cap(int max_steps) { return max_steps > 0 && max_steps < kNewtonCap ? max_steps : kNewtonCap; }
+
 bool newton_slide(const Mat3& W, const Vec3& w, double mu, const Eigen::Vector2d& start, Eigen::Vector2d& da,
-                  SlideTrial& t) {
+                  SlideTrial& t, int max_steps = 0) {
   NewtonLane L = newton_lane(W, w, mu, start);
-  for (int it = 0; it < kNewtonCap; ++it)
-    if (!newton_step(L)) break;
-  return newton_admissible(L, da, t);
+  const int cap = step_cap(max_steps);
+  bool cut = true;
+  for (int it = 0; it < cap; ++it)
+    if (!newton_step(L)) { cut = false; break; }
+  return newton_admissible(L, da, t, cut && cap < kNewtonCap);
 }
 
 Vec3 slide_impulse(const SlideTrial& f, double mu, const Eigen::Vector2d& d) {
@@ -136,10 +143,11 @@ LocalSolution solve_local_coulomb(const Mat3& W, const Vec3& w, double mu) {
   return solve_local_coulomb(W, W.inverse(), w, mu);
 }
 
-bool detail::slide_from_hint(const Mat3& W, const Vec3& w, double mu, const Eigen::Vector2d& hint, Vec3& lambda) {
+bool detail::slide_from_hint(const Mat3& W, const Vec3& w, double mu, const Eigen::Vector2d& hint, Vec3& lambda,
+                             int max_steps) {
   Eigen::Vector2d da;
   SlideTrial f;
-  if (!newton_slide(W, w, mu, hint, da, f)) return false;
+  if (!newton_slide(W, w, mu, hint, da, f, max_steps)) return false;
   lambda = slide_impulse(f, mu, da);
   return true;
 }
@@ -149,26 +157,29 @@ namespace {
 // N lanes, N known when compiled so that the lanes' loops unroll.
 template <int N>
 void slide_lanes(const Mat3* const W[], const Vec3* const w[], const double mu[], const Eigen::Vector2d* const hint[],
-                 Vec3* lambda[], bool found[]) {
+                 Vec3* lambda[], bool found[], const int max_steps[]) {
   NewtonLane L[N];
   bool active[N];
+  int cap[N];
   for (int k = 0; k < N; ++k) {
     L[k] = newton_lane(*W[k], *w[k], mu[k], *hint[k]);
     active[k] = true;
+    cap[k] = step_cap(max_steps[k]);
   }
-  // Each lane takes exactly the steps it would alone (at most kNewtonCap).
+  // Each lane takes exactly the steps it would alone (at most its cap).
   for (int it = 0; it < kNewtonCap; ++it) {
     bool any = false;
     for (int k = 0; k < N; ++k) {
+      if (active[k] && it == cap[k]) continue;  // cut by its budget, still active
       if (active[k]) active[k] = newton_step(L[k]);
-      any = any || active[k];
+      any = any || (active[k] && it + 1 < cap[k]);
     }
     if (!any) break;
   }
   for (int k = 0; k < N; ++k) {
     Eigen::Vector2d da;
     SlideTrial f;
-    found[k] = newton_admissible(L[k], da, f);
+    found[k] = newton_admissible(L[k], da, f, active[k] && cap[k] < kNewtonCap);
     if (found[k]) *lambda[k] = slide_impulse(f, mu[k], da);
   }
 }
@@ -176,24 +187,28 @@ void slide_lanes(const Mat3* const W[], const Vec3* const w[], const double mu[]
 }  // namespace
 
 void detail::slide_from_hints(int n, const Mat3* const W[], const Vec3* const w[], const double mu[],
-                              const Eigen::Vector2d* const hint[], Vec3* lambda[], bool found[]) {
+                              const Eigen::Vector2d* const hint[], Vec3* lambda[], bool found[],
+                              const int max_steps[]) {
+  static constexpr int kExact[kSlideLanes] = {};
+  if (max_steps == nullptr) max_steps = kExact;
   switch (n) {
-    case 2: slide_lanes<2>(W, w, mu, hint, lambda, found); break;
-    case 3: slide_lanes<3>(W, w, mu, hint, lambda, found); break;
-    case 4: slide_lanes<4>(W, w, mu, hint, lambda, found); break;
+    case 2: slide_lanes<2>(W, w, mu, hint, lambda, found, max_steps); break;
+    case 3: slide_lanes<3>(W, w, mu, hint, lambda, found, max_steps); break;
+    case 4: slide_lanes<4>(W, w, mu, hint, lambda, found, max_steps); break;
     default:
-      for (int k = 0; k < n; ++k) found[k] = slide_from_hint(*W[k], *w[k], mu[k], *hint[k], *lambda[k]);
+      for (int k = 0; k < n; ++k)
+        found[k] = slide_from_hint(*W[k], *w[k], mu[k], *hint[k], *lambda[k], max_steps[k]);
   }
 }
 
 LocalSolution detail::solve_local_slide(const Mat3& W, const Vec3& w, double mu, const Vec3& stick, double lt,
-                                        const Eigen::Vector2d* hint) {
+                                        const Eigen::Vector2d* hint, int max_steps) {
   // From the direction the contact slid in at its last solve: in a sweep that is nearly
   // converged Newton lands on the same admissible root in one or two steps. Any other
   // outcome goes the cold way, unchanged.
   LocalSolution sol;
   sol.status = LocalStatus::Slide;
-  if (hint != nullptr && slide_from_hint(W, w, mu, *hint, sol.lambda)) return sol;
+  if (hint != nullptr && slide_from_hint(W, w, mu, *hint, sol.lambda, max_steps)) return sol;
   return slide_cold(W, w, mu, stick, lt);
 }
 

@@ -35,17 +35,25 @@ namespace detail {
 // and the stick impulse (stick = -W^-1 w, lt its tangential norm) lies outside the cone.
 // hint: a unit direction to start Newton from (the contact's last slide), or null.
 // It is slide_from_hint, and where that fails or there is no hint, slide_cold.
+// max_steps > 0: an inexact slide from the hint (slide_from_hint).
 LocalSolution solve_local_slide(const Mat3& W, const Vec3& w, double mu, const Vec3& stick, double lt,
-                                const Eigen::Vector2d* hint = nullptr);
+                                const Eigen::Vector2d* hint = nullptr, int max_steps = 0);
 // Newton from the hint alone: true, with the impulse, when it ends at an admissible slide.
-bool slide_from_hint(const Mat3& W, const Vec3& w, double mu, const Eigen::Vector2d& hint, Vec3& lambda);
+// max_steps > 0 (solver.slide_newton_steps): at most that many steps, and a direction the
+// budget cut short counts when the slide is against it (lambda_n >= 0, u_t . d < 0): an
+// impulse on the cone, the next sweep's start. At a fixed point of the sweeps the hint is
+// the answer and its Newton step zero, so the converged answer is the exact law's
+// (Acary, Bremond & Huber 2018, INRIA RR-9118: inexact local solves in the Gauss-Seidel).
+bool slide_from_hint(const Mat3& W, const Vec3& w, double mu, const Eigen::Vector2d& hint, Vec3& lambda,
+                     int max_steps = 0);
 // The same for n (1 to kSlideLanes) independent problems at once, each with the bits it
 // has alone: their Newton iterations interleaved, so that one's divisions and square
 // roots run while the others' wait (a slide is a chain of them, and a third of a sweep's
 // rows slide).
 constexpr int kSlideLanes = 4;
 void slide_from_hints(int n, const Mat3* const W[], const Vec3* const w[], const double mu[],
-                      const Eigen::Vector2d* const hint[], Vec3* lambda[], bool found[]);
+                      const Eigen::Vector2d* const hint[], Vec3* lambda[], bool found[],
+                      const int max_steps[] = nullptr);  // per lane, as slide_from_hint's; null: all exact
 // The slide without a hint, in three stages that can be taken apart (a sweep solves the
 // second stage of several rows together): the fixed point from the stick direction d0
 // (slide_fixed_point: true with the impulse when it converged), Newton from d0

@@ -77,8 +77,8 @@ template <bool Record>
 // nothing of the row is changed, and the caller finishes it (true).
 template <bool Record>
 [[gnu::always_inline]] inline bool solve_row(SolverRow& c, const BodyArrays& B, bool friction, bool rotation,
-                                             double compliance, double relax, double& d2, double& l2, double* x,
-                                             double* g, PutOff* put_off = nullptr) {
+                                             double compliance, double relax, int slide_steps, double& d2,
+                                             double& l2, double* x, double* g, PutOff* put_off = nullptr) {
   // A row with no impulse whose gap stays open keeps none, with the bits of the full
   // solve below (w = u - W 0 + b, and every local law gives 0 for w_n >= 0; d and the
   // sums add exact zeros): its normal velocity decides, not the whole local velocity.
@@ -119,8 +119,9 @@ template <bool Record>
       put_off->lt = lt;
       return true;
     } else {
-      lambda_new = (shift != 0.0 ? detail::solve_local_slide(shifted_block(c.W, shift), w, c.mu, stick, lt, slid)
-                                 : detail::solve_local_slide(c.W, w, c.mu, stick, lt, slid)).lambda;
+      lambda_new = (shift != 0.0
+                        ? detail::solve_local_slide(shifted_block(c.W, shift), w, c.mu, stick, lt, slid, slide_steps)
+                        : detail::solve_local_slide(c.W, w, c.mu, stick, lt, slid, slide_steps)).lambda;
     }
     if (c.bias_capped != 0.0) lambda_new = weaker_push(c, w, lambda_new);
   } else {
@@ -152,6 +153,7 @@ struct SlideBatch {
   bool rotation;
   double compliance;
   double relax;
+  int slide_steps;  // solver.slide_newton_steps for a hinted slide (a cold one is solved exactly)
   double* gs;
   double* x;
   double* g;
@@ -179,14 +181,16 @@ struct SlideBatch {
     Vec3 lambda[detail::kSlideLanes];
     Vec3* out[detail::kSlideLanes];
     bool found[detail::kSlideLanes];
+    int steps[detail::kSlideLanes];
     for (int k = 0; k < count; ++k) {
+      steps[k] = held[k].cold ? 0 : slide_steps;
       W[k] = &held[k].block;
       w[k] = &held[k].w;
       mu[k] = rows[held[k].row].mu;
       hint[k] = &held[k].hint;
       out[k] = &lambda[k];
     }
-    detail::slide_from_hints(count, W, w, mu, hint, out, found);
+    detail::slide_from_hints(count, W, w, mu, hint, out, found, steps);
     for (int k = 0; k < count; ++k) finish(held[k], found[k] ? lambda[k] : fallback(held[k]));
     count = 0;
   }
@@ -194,7 +198,7 @@ struct SlideBatch {
     for (int j = 0; j < count; ++j)
       if (held[j].group == grp) { solve_held(); break; }  // a held row comes first in its group
     PutOff& slot = held[count];
-    if (!solve_row<Record>(rows[k], B, friction, rotation, compliance, relax, gs[2 * grp], gs[2 * grp + 1],
+    if (!solve_row<Record>(rows[k], B, friction, rotation, compliance, relax, slide_steps, gs[2 * grp], gs[2 * grp + 1],
                            Record ? x + 3 * k : x, Record ? g + 3 * k : g, &slot))
       return;
     slot.row = k;
@@ -233,12 +237,12 @@ constexpr int kBodiesAhead = 2;
 // order, the same sums for any thread count. Without a colouring, one group of all rows.
 template <bool Record>
 void sweep(std::vector<SolverRow>& cs, SolverBodies& bodies, const RowColouring* colouring, int parallel_min_rows,
-           bool friction, bool rotation, double compliance, double relax, double& d2, double& l2,
+           bool friction, bool rotation, double compliance, double relax, int slide_steps, double& d2, double& l2,
            std::vector<double>& sums, double* x = nullptr, double* g = nullptr) {
   const BodyArrays B = arrays_of(bodies);
   if (colouring == nullptr) {
     for (std::size_t k = 0; k < cs.size(); ++k)
-      solve_row<Record>(cs[k], B, friction, rotation, compliance, relax, d2, l2, Record ? x + 3 * k : x,
+      solve_row<Record>(cs[k], B, friction, rotation, compliance, relax, slide_steps, d2, l2, Record ? x + 3 * k : x,
                         Record ? g + 3 * k : g);
     return;
   }
@@ -252,7 +256,7 @@ void sweep(std::vector<SolverRow>& cs, SolverBodies& bodies, const RowColouring*
   const int n = static_cast<int>(cs.size());
 #pragma omp parallel if (n > parallel_min_rows)
   {
-    SlideBatch<Record> batch{rows, B, rotation, compliance, relax, gs, x, g, {}};
+    SlideBatch<Record> batch{rows, B, rotation, compliance, relax, slide_steps, gs, x, g, {}};
     for (int c = 0; c < nc; ++c) {
 #pragma omp for schedule(static) nowait
       for (int grp = cb[c]; grp < cb[c + 1]; ++grp) {
@@ -377,16 +381,20 @@ SolveResult solve_nsgs(std::vector<SolverRow>& cs, SolverBodies& B, const SolveS
   double mark = HUGE_VAL;
   int mark_it = 0;
   double relax = 1.0;
+  // The inexact slide's budget (solver.slide_newton_steps); a stalled solve finishes with
+  // exact slides, so that its plain sweeps are the exact method's.
+  int slide_steps = set.slide_newton_steps;
   int gradient_from = 0;  // the sweep after which solve_apgd took over (0: it did not)
   for (it = 1; it <= set.max_iterations && !cs.empty(); ++it) {
     if (set.by_velocity) { s.v_sweep = B.v; s.w_sweep = B.w; }
     double d2 = 0.0, l2 = 0.0;
     if (accelerate)
-      sweep<true>(cs, B, set.colouring, set.parallel_min_rows, friction, rotation, set.compliance, relax, d2, l2,
-                  s.group_sums, mixer.record_buffer(cs.size(), false), mixer.record_buffer(cs.size(), true));
+      sweep<true>(cs, B, set.colouring, set.parallel_min_rows, friction, rotation, set.compliance, relax,
+                  slide_steps, d2, l2, s.group_sums, mixer.record_buffer(cs.size(), false),
+                  mixer.record_buffer(cs.size(), true));
     else
-      sweep<false>(cs, B, set.colouring, set.parallel_min_rows, friction, rotation, set.compliance, relax, d2, l2,
-                   s.group_sums);
+      sweep<false>(cs, B, set.colouring, set.parallel_min_rows, friction, rotation, set.compliance, relax,
+                   slide_steps, d2, l2, s.group_sums);
     if (friction) tangential += static_cast<std::int64_t>(cs.size());
     if (set.by_velocity) {
       const double de = velocity_change(B, s.v_sweep, s.w_sweep, rotation);
@@ -409,6 +417,7 @@ SolveResult solve_nsgs(std::vector<SolverRow>& cs, SolverBodies& B, const SolveS
       // that each row's law is one monotone law and the sweeps contract.
       accelerate = false;
       out.plain_fallback = true;
+      slide_steps = 0;
       for (SolverRow& c : cs) c.law_kept = c.law_taken;
       mark_it = it;  // the plain sweeps' own patience
     } else if (it - mark_it >= set.stall_sweeps && set.compliance > 0.0 && relax > kMinRelaxation) {

@@ -141,6 +141,7 @@ struct SolveSettings {
   const RowColouring* colouring = nullptr;  // the rows' colouring (parallel sweep), or null: one thread in row order
   int stall_sweeps = 100;    // the stall guard's patience: sweeps without halving the residual (solve_nsgs)
   bool apgd_fallback = false;  // solver.stall_fallback "apgd": a stalled rigid solve goes on by solve_apgd
+  int slide_newton_steps = 0;  // solver.slide_newton_steps: > 0, a hinted slide's Newton budget (inexact); 0 exact
 };
 
 struct SolveResult {

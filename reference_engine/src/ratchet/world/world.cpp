@@ -157,6 +157,7 @@ void World::solve() {
   settings.compliance = scene_.solver.compliance;
   settings.rigid = scene_.solver.compliance == 0.0;
   settings.apgd_fallback = scene_.solver.stall_fallback == StallFallback::Apgd;
+  settings.slide_newton_steps = scene_.solver.slide_newton_steps;
   settings.colouring = &scratch_.colouring;
   settings.parallel_min_rows = parallel_min_rows();
   scratch_.solver.v_free = state_.v;  // stored once: the velocity criterion and the jam's re-solve read it
