@@ -170,7 +170,7 @@ void slide_lanes(const Mat3* const W[], const Vec3* const w[], const double mu[]
   for (int it = 0; it < kNewtonCap; ++it) {
     bool any = false;
     for (int k = 0; k < N; ++k) {
-      if (active[k] && it == cap[k]) continue;  // cut by its budget, still active
+      if (it >= cap[k]) continue;  // its budget spent: it stays as its last step left it
       if (active[k]) active[k] = newton_step(L[k]);
       any = any || (active[k] && it + 1 < cap[k]);
     }
