@@ -8,10 +8,7 @@
 #include <gtest/gtest.h>
 #include <omp.h>
 
-#include <chrono>
 #include <filesystem>
-#include <iostream>
-#include <sstream>
 
 #include "../support/test_files.hpp"
 #include "ratchet/run/packing.hpp"
@@ -93,42 +90,12 @@ TEST(ThreadCount, TheInexactSlideWritesTheSameBytesOnOneAndThreeThreads) {
 }
 
 TEST(ThreadCount, OneTwoThreeAndEightThreadsWriteTheSameBytes) {
-  const int saved_threads = omp_get_max_threads();
-  const SceneDef scene = build_scene(cycled_bed(), "threads.json");
-  const fs::path packing = test::fresh_dir("ratchet_threads_packing") / "bed.state";
-  {
-    World world(scene);
-    write_packing(packing.string(), world, settle_world(world), json::object());
-  }
-  test_hooks().parallel_min_rows = 0;
-  std::vector<std::string> series, bodies;
-  int most_colours = 0;
-  for (int threads : {1, 2, 3, 8}) {
-    omp_set_num_threads(threads);
-    const auto start = std::chrono::steady_clock::now();
-    const fs::path dir = test::fresh_dir("ratchet_threads_" + std::to_string(threads));
-    World world(scene);
-    RunOptions opt;
-    opt.packing_settle = load_packing(packing.string(), world).value("settle", json());
-    opt.packing = packing_reference(packing.string(), world);
-    opt.out_dir = dir.string();
-    run_world(world, opt, [&](const World& w) {
-      most_colours = std::max(most_colours, w.contact_colouring().colours());
-    });
-    series.push_back(without_timing_columns(test::read_text(dir / "timeseries.csv")));
-    bodies.push_back(test::read_text(dir / "bodies.csv"));
-    fs::remove_all(dir);
-    std::cout << threads << " threads: " << std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()
-              << " s\n";
-  }
-  test_hooks().parallel_min_rows = -1;
-  omp_set_num_threads(saved_threads);
-  EXPECT_GT(series[0].size(), 50000u);  // hundreds of steps, one row each
-  fs::remove_all(packing.parent_path());
-  EXPECT_GT(most_colours, 3);            // the sweep really had several colours to split
-  for (std::size_t k = 1; k < series.size(); ++k) {
-    EXPECT_TRUE(series[k] == series[0]) << "timeseries.csv differs at thread count index " << k;
-    EXPECT_TRUE(bodies[k] == bodies[0]) << "bodies.csv differs at thread count index " << k;
+  const ThreadRuns runs = run_on_threads(cycled_bed(), {1, 2, 3, 8}, "threads");
+  EXPECT_GT(runs.series[0].size(), 50000u);  // hundreds of steps, one row each
+  EXPECT_GT(runs.most_colours, 3);           // the sweep really had several colours to split
+  for (std::size_t k = 1; k < runs.series.size(); ++k) {
+    EXPECT_TRUE(runs.series[k] == runs.series[0]) << "timeseries.csv differs at thread count index " << k;
+    EXPECT_TRUE(runs.bodies[k] == runs.bodies[0]) << "bodies.csv differs at thread count index " << k;
   }
 }
 
